@@ -1,0 +1,248 @@
+#include "twin/material.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace twin {
+namespace {
+
+using nlohmann::json;
+
+std::string format_value(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
+  throw std::invalid_argument(source + ": field '" + field + "' " + what);
+}
+
+double number_field(const json& j, const std::string& source, const std::string& field) {
+  if (!j.is_number()) fail(source, field, "must be a number, got " + std::string(j.type_name()));
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) fail(source, field, "must be finite");
+  return v;
+}
+
+void require_positive(double v, const std::string& source, const std::string& field,
+                      const char* unit) {
+  if (!(std::isfinite(v) && v > 0.0)) {
+    fail(source, field, std::string("must be a positive finite number in ") + unit + ", got " +
+                            format_value(v));
+  }
+}
+
+void require_non_negative(double v, const std::string& source, const std::string& field,
+                          const char* unit) {
+  if (!(std::isfinite(v) && v >= 0.0)) {
+    fail(source, field, std::string("must be a finite number >= 0 in ") + unit + ", got " +
+                            format_value(v));
+  }
+}
+
+// A directional property is a number (isotropic) or {"weft": u, "warp": v}.
+std::pair<double, double> directional_field(const json& j, const std::string& source,
+                                            const std::string& field) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      if (key != "weft" && key != "warp") {
+        fail(source, field + "." + key, "is not known; expected 'weft' (u) and 'warp' (v)");
+      }
+    }
+    if (!j.contains("weft") || !j.contains("warp")) {
+      fail(source, field, "must give both 'weft' and 'warp' when given per direction");
+    }
+    return {number_field(j.at("weft"), source, field + ".weft"),
+            number_field(j.at("warp"), source, field + ".warp")};
+  }
+  const double v = number_field(j, source, field);
+  return {v, v};
+}
+
+json directional_json(double u, double v) {
+  if (u == v) return u;
+  return json{{"weft", u}, {"warp", v}};
+}
+
+void reject_unknown_keys(const json& j, const std::set<std::string>& known,
+                         const std::string& source, const std::string& prefix) {
+  for (const auto& [key, value] : j.items()) {
+    if (!known.count(key)) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      fail(source, prefix + key, "is not a known field; expected one of: " + list);
+    }
+  }
+}
+
+}  // namespace
+
+Mat3 Material::membrane_stiffness() const {
+  const double yu = tensile_stiffness_u_N_m, yv = tensile_stiffness_v_N_m;
+  const double nu_uv = poisson_ratio;
+  const double nu_vu = nu_uv * yv / yu;
+  const double s = 1.0 / (1.0 - nu_uv * nu_vu);
+  Mat3 c = Mat3::Zero();
+  c(0, 0) = s * yu;
+  c(1, 1) = s * yv;
+  c(0, 1) = c(1, 0) = s * nu_uv * yv;
+  c(2, 2) = shear_stiffness_N_m;
+  return c;
+}
+
+void Material::validate() const {
+  const std::string src = "material '" + name + "'";
+  require_positive(surface_density_kg_m2, src, "surface_density_kg_m2", "kg/m^2");
+  require_positive(tensile_stiffness_u_N_m, src, "tensile_stiffness_N_m.weft", "N/m");
+  require_positive(tensile_stiffness_v_N_m, src, "tensile_stiffness_N_m.warp", "N/m");
+  require_positive(shear_stiffness_N_m, src, "shear_stiffness_N_m", "N/m");
+  require_positive(bending_rigidity_u_Nm, src, "bending_rigidity_Nm.weft", "N*m");
+  require_positive(bending_rigidity_v_Nm, src, "bending_rigidity_Nm.warp", "N*m");
+  require_non_negative(tensile_viscosity_Ns_m, src, "viscosity.tensile_Ns_m", "N*s/m");
+  require_non_negative(shear_viscosity_Ns_m, src, "viscosity.shear_Ns_m", "N*s/m");
+  require_non_negative(mass_damping_1_s, src, "viscosity.mass_damping_1_s", "1/s");
+  const double coupling =
+      poisson_ratio * poisson_ratio * tensile_stiffness_v_N_m / tensile_stiffness_u_N_m;
+  if (!(std::isfinite(poisson_ratio) && poisson_ratio >= 0.0 && coupling < 1.0)) {
+    fail(src, "poisson_ratio",
+         "must be >= 0 with nu^2 * Y_warp / Y_weft < 1 (a stable membrane), got " +
+             format_value(poisson_ratio));
+  }
+  if (thickness_m) require_positive(*thickness_m, src, "thickness_m", "m");
+}
+
+double bending_rigidity_from_modulus(double modulus_Pa, double thickness_m, double poisson_ratio) {
+  return modulus_Pa * thickness_m * thickness_m * thickness_m /
+         (12.0 * (1.0 - poisson_ratio * poisson_ratio));
+}
+
+Material material_from_json(const json& j, const std::string& source) {
+  if (!j.is_object()) throw std::invalid_argument(source + ": a material must be a JSON object");
+  reject_unknown_keys(j,
+                      {"name", "surface_density_kg_m2", "tensile_stiffness_N_m",
+                       "shear_stiffness_N_m", "poisson_ratio", "bending_rigidity_Nm",
+                       "bending_modulus_Pa", "thickness_m", "viscosity", "bending_given_as"},
+                      source, "");
+  auto required = [&](const char* field) -> const json& {
+    if (!j.contains(field)) fail(source, field, "is missing");
+    return j.at(field);
+  };
+  Material m;
+  if (j.contains("name")) {
+    if (!j.at("name").is_string()) fail(source, "name", "must be a string");
+    m.name = j.at("name").get<std::string>();
+  }
+  m.surface_density_kg_m2 =
+      number_field(required("surface_density_kg_m2"), source, "surface_density_kg_m2");
+  std::tie(m.tensile_stiffness_u_N_m, m.tensile_stiffness_v_N_m) =
+      directional_field(required("tensile_stiffness_N_m"), source, "tensile_stiffness_N_m");
+  m.shear_stiffness_N_m =
+      number_field(required("shear_stiffness_N_m"), source, "shear_stiffness_N_m");
+  if (j.contains("poisson_ratio")) {
+    m.poisson_ratio = number_field(j.at("poisson_ratio"), source, "poisson_ratio");
+  }
+  if (j.contains("thickness_m")) {
+    m.thickness_m = number_field(j.at("thickness_m"), source, "thickness_m");
+    require_positive(*m.thickness_m, source, "thickness_m", "m");
+  }
+  const bool rigidity = j.contains("bending_rigidity_Nm");
+  const bool modulus = j.contains("bending_modulus_Pa");
+  if (rigidity == modulus) {
+    fail(source, "bending_rigidity_Nm",
+         "or 'bending_modulus_Pa' (with 'thickness_m') must be given, exactly one of them");
+  }
+  if (j.contains("bending_given_as")) {
+    const json& given = j.at("bending_given_as");
+    const std::string expected = rigidity ? "rigidity" : "modulus";
+    if (!given.is_string() || given.get<std::string>() != expected) {
+      fail(source, "bending_given_as",
+           "must be \"" + expected + "\" to match the bending field present in the file");
+    }
+  }
+  if (rigidity) {
+    std::tie(m.bending_rigidity_u_Nm, m.bending_rigidity_v_Nm) =
+        directional_field(j.at("bending_rigidity_Nm"), source, "bending_rigidity_Nm");
+  } else {
+    auto [eu, ev] = directional_field(j.at("bending_modulus_Pa"), source, "bending_modulus_Pa");
+    require_positive(eu, source, "bending_modulus_Pa", "N/m^2");
+    require_positive(ev, source, "bending_modulus_Pa", "N/m^2");
+    if (!m.thickness_m) fail(source, "thickness_m", "is needed to convert bending_modulus_Pa");
+    m.bending_modulus_u_Pa = eu;
+    m.bending_modulus_v_Pa = ev;
+    m.bending_rigidity_u_Nm = bending_rigidity_from_modulus(eu, *m.thickness_m, m.poisson_ratio);
+    m.bending_rigidity_v_Nm = bending_rigidity_from_modulus(ev, *m.thickness_m, m.poisson_ratio);
+  }
+  if (j.contains("viscosity")) {
+    const json& v = j.at("viscosity");
+    if (!v.is_object()) fail(source, "viscosity", "must be an object");
+    reject_unknown_keys(v, {"tensile_Ns_m", "shear_Ns_m", "mass_damping_1_s"}, source,
+                        "viscosity.");
+    if (v.contains("tensile_Ns_m"))
+      m.tensile_viscosity_Ns_m = number_field(v.at("tensile_Ns_m"), source, "viscosity.tensile_Ns_m");
+    if (v.contains("shear_Ns_m"))
+      m.shear_viscosity_Ns_m = number_field(v.at("shear_Ns_m"), source, "viscosity.shear_Ns_m");
+    if (v.contains("mass_damping_1_s"))
+      m.mass_damping_1_s =
+          number_field(v.at("mass_damping_1_s"), source, "viscosity.mass_damping_1_s");
+  }
+  // Re-validate with the file named, so every message points at the file.
+  const std::string name = m.name;
+  m.name = source;
+  m.validate();
+  m.name = name;
+  return m;
+}
+
+json material_to_json(const Material& m) {
+  json j;
+  j["name"] = m.name;
+  j["surface_density_kg_m2"] = m.surface_density_kg_m2;
+  j["tensile_stiffness_N_m"] = directional_json(m.tensile_stiffness_u_N_m, m.tensile_stiffness_v_N_m);
+  j["shear_stiffness_N_m"] = m.shear_stiffness_N_m;
+  j["poisson_ratio"] = m.poisson_ratio;
+  if (m.thickness_m) j["thickness_m"] = *m.thickness_m;
+  if (m.bending_given_as_modulus()) {
+    j["bending_given_as"] = "modulus";
+    j["bending_modulus_Pa"] = directional_json(*m.bending_modulus_u_Pa, *m.bending_modulus_v_Pa);
+  } else {
+    j["bending_given_as"] = "rigidity";
+    j["bending_rigidity_Nm"] = directional_json(m.bending_rigidity_u_Nm, m.bending_rigidity_v_Nm);
+  }
+  j["viscosity"] = {{"tensile_Ns_m", m.tensile_viscosity_Ns_m},
+                    {"shear_Ns_m", m.shear_viscosity_Ns_m},
+                    {"mass_damping_1_s", m.mass_damping_1_s}};
+  return j;
+}
+
+Material read_material_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open material file");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(path + ": not valid JSON: " + e.what());
+  }
+  return material_from_json(j, path);
+}
+
+void write_material_file(const std::string& path, const Material& m) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error(path + ": cannot write material file");
+    out << material_to_json(m).dump(2) << "\n";
+    if (!out.flush()) throw std::runtime_error(path + ": write failed");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace twin
