@@ -28,7 +28,7 @@ double mesh_extent(const SheetMesh& mesh) {
 
 // Hinge angle per unit curvature, t_e(d), for the cylinder at `angle_rad`.
 std::vector<double> unit_curvature_angles(const SheetMesh& mesh, const std::vector<Hinge>& hinges,
-                                          double angle_rad, double* curvature_used) {
+                                          double angle_rad) {
   // Small enough that theta is linear in kappa to ~1e-6, large enough for atan2's precision.
   const double kappa = 1e-3 / mesh_extent(mesh);
   const VecX x = wrap_on_cylinder(mesh, angle_rad, kappa);
@@ -36,7 +36,6 @@ std::vector<double> unit_curvature_angles(const SheetMesh& mesh, const std::vect
   for (std::size_t e = 0; e < hinges.size(); ++e) {
     t[e] = dihedral_angle(hinge_positions(x, hinges[e]), nullptr, nullptr) / kappa;
   }
-  if (curvature_used) *curvature_used = kappa;
   return t;
 }
 
@@ -57,7 +56,7 @@ BendingCalibration::BendingCalibration(const SheetMesh& mesh, const std::vector<
   // response(d, c) = sum_e w_e n_c^2 t_e(d)^2 for cylinder direction d and coefficient c.
   Mat2 response = Mat2::Zero();
   for (int d = 0; d < 2; ++d) {
-    const std::vector<double> t = unit_curvature_angles(mesh, hinges, d * M_PI / 2.0, nullptr);
+    const std::vector<double> t = unit_curvature_angles(mesh, hinges, d * M_PI / 2.0);
     for (std::size_t e = 0; e < hinges.size(); ++e) {
       for (int c = 0; c < 2; ++c) {
         response(d, c) += weight_[e] * normal_[e](c) * normal_[e](c) * t[e] * t[e];
@@ -100,7 +99,7 @@ VecX wrap_on_cylinder(const SheetMesh& mesh, double angle_rad, double curvature_
 
 double effective_cylinder_rigidity(const SheetMesh& mesh, const std::vector<Hinge>& hinges,
                                    const std::vector<double>& stiffnesses, double angle_rad) {
-  const std::vector<double> t = unit_curvature_angles(mesh, hinges, angle_rad, nullptr);
+  const std::vector<double> t = unit_curvature_angles(mesh, hinges, angle_rad);
   double energy_per_kappa_sq = 0.0, area = 0.0;
   for (std::size_t e = 0; e < hinges.size(); ++e) {
     energy_per_kappa_sq += stiffnesses[e] * t[e] * t[e];

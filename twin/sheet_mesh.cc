@@ -12,9 +12,10 @@ double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
 }
 
 // Triangulates the strip between two rows of vertices (ids in increasing u, both rows spanning
-// the full width, `bottom` at the lower v). Advancing along the row whose next vertex comes
-// first keeps every triangle close to its neighbours' shape; ties advance the bottom row, which
-// gives the single-diagonal grid for aligned rows.
+// the full width, `bottom` at the lower v). Each step adds the shorter of the two possible new
+// diagonals, which keeps the triangles near-equilateral and the mesh mirror-symmetric at both
+// side edges; equal diagonals (aligned rows) advance the bottom row, giving the single-diagonal
+// grid.
 void zip_rows(const std::vector<int>& bottom, const std::vector<int>& top,
               const std::vector<Vec2>& uv, std::vector<std::array<int, 3>>& triangles) {
   std::size_t i = 0, k = 0;
@@ -25,7 +26,9 @@ void zip_rows(const std::vector<int>& bottom, const std::vector<int>& top,
     } else if (k + 1 >= top.size()) {
       advance_bottom = true;
     } else {
-      advance_bottom = uv[bottom[i + 1]].x() <= uv[top[k + 1]].x() + 1e-12;
+      const double bottom_diagonal = (uv[bottom[i + 1]] - uv[top[k]]).norm();
+      const double top_diagonal = (uv[top[k + 1]] - uv[bottom[i]]).norm();
+      advance_bottom = bottom_diagonal <= top_diagonal * (1.0 + 1e-9);
     }
     if (advance_bottom) {
       triangles.push_back({bottom[i], bottom[i + 1], top[k]});
@@ -64,9 +67,29 @@ SheetMesh make_rectangular_sheet(double width_m, double height_m, double edge_le
   require_positive(height_m, "height_m");
   require_positive(edge_length_m, "edge_length_m");
   const bool offset = pattern == TriangulationPattern::kOffsetRows;
-  const double row_spacing = offset ? edge_length_m * std::sqrt(3.0) / 2.0 : edge_length_m;
-  const long nx = std::max(1L, std::lround(width_m / edge_length_m));
-  const long ny = std::max(1L, std::lround(height_m / row_spacing));
+  long nx = std::max(1L, std::lround(width_m / edge_length_m));
+  long ny = std::max(1L, std::lround(height_m / edge_length_m));
+  if (offset) {
+    // Rows must be sqrt(3)/2 edge lengths apart for equilateral triangles, and a few percent of
+    // distortion already makes hinge bending visibly anisotropic (see bending_calibration.h).
+    // Search column counts within -20..+25 % of the nominal one for the pair (nx, ny) that keeps
+    // the triangles closest to equilateral, charging a little for moving away from edge_length.
+    const double nominal = width_m / edge_length_m;
+    double best = 1e300;
+    for (long cols = std::max(1L, std::lround(0.8 * nominal));
+         cols <= std::max(1L, std::lround(1.25 * nominal)); ++cols) {
+      const double dx = width_m / static_cast<double>(cols);
+      const long rows = std::max(1L, std::lround(height_m / (dx * std::sqrt(3.0) / 2.0)));
+      const double distortion =
+          std::abs(std::log(height_m / static_cast<double>(rows) / (dx * std::sqrt(3.0) / 2.0)));
+      const double cost = distortion + 0.25 * std::abs(std::log(dx / edge_length_m));
+      if (cost < best) {
+        best = cost;
+        nx = cols;
+        ny = rows;
+      }
+    }
+  }
   if (2.0 * static_cast<double>(nx + 1) * static_cast<double>(ny) > 4.0e6) {
     throw std::invalid_argument("sheet: edge_length_m " + std::to_string(edge_length_m) +
                                 " gives more than 4M triangles");
