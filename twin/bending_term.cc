@@ -1,0 +1,34 @@
+#include "twin/bending_term.h"
+
+#include <stdexcept>
+
+namespace twin {
+
+BendingTerm::BendingTerm(const SheetMesh& mesh, double rigidity_u_Nm, double rigidity_v_Nm)
+    : hinges_(build_hinges(mesh)), calibration_(mesh, hinges_) {
+  std::vector<int> vertices;
+  vertices.reserve(4 * hinges_.size());
+  elements_.resize(hinges_.size());
+  for (std::size_t e = 0; e < hinges_.size(); ++e) {
+    elements_[e].v = hinges_[e].v;
+    vertices.insert(vertices.end(), hinges_[e].v.begin(), hinges_[e].v.end());
+  }
+  set_elements(std::move(vertices), mesh.vertex_count());
+  set_rigidity(rigidity_u_Nm, rigidity_v_Nm);
+}
+
+void BendingTerm::set_rigidity(double rigidity_u_Nm, double rigidity_v_Nm) {
+  const std::vector<double> k = calibration_.hinge_stiffnesses(rigidity_u_Nm, rigidity_v_Nm);
+  for (std::size_t e = 0; e < elements_.size(); ++e) elements_[e].stiffness_Nm = k[e];
+}
+
+void BendingTerm::set_rest_angles(const std::vector<double>& angles_rad) {
+  if (angles_rad.size() != elements_.size()) {
+    throw std::invalid_argument("bending: " + std::to_string(angles_rad.size()) +
+                                " rest angles given for " + std::to_string(elements_.size()) +
+                                " hinges");
+  }
+  for (std::size_t e = 0; e < elements_.size(); ++e) elements_[e].rest_angle_rad = angles_rad[e];
+}
+
+}  // namespace twin

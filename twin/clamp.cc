@@ -1,0 +1,109 @@
+#include "twin/clamp.h"
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+namespace twin {
+namespace {
+
+bool on_sheet(const SheetMesh& mesh, const Vec2& p) {
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec2 a = mesh.rest_uv[tri[0]], b = mesh.rest_uv[tri[1]], c = mesh.rest_uv[tri[2]];
+    const double tolerance = 1e-9 * ((b - a).norm() + (c - a).norm());
+    auto side = [](const Vec2& o, const Vec2& d, const Vec2& q) {
+      return (d - o).x() * (q - o).y() - (d - o).y() * (q - o).x();
+    };
+    if (side(a, b, p) >= -tolerance && side(b, c, p) >= -tolerance && side(c, a, p) >= -tolerance) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string describe(const Vec2& p) {
+  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ") m";
+}
+
+}  // namespace
+
+Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
+  const std::string who = "clamp '" + spec.id + "'";
+  if (!spec.material_point_m.allFinite() || !on_sheet(mesh, spec.material_point_m)) {
+    throw std::invalid_argument(who + ": material point " + describe(spec.material_point_m) +
+                                " is not on the sheet");
+  }
+  if (!(std::isfinite(spec.grip_radius_m) && spec.grip_radius_m >= 0.0)) {
+    throw std::invalid_argument(who + ": grip_radius_m must be >= 0 (m)");
+  }
+  int nearest = -1;
+  double nearest_distance = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < mesh.vertex_count(); ++i) {
+    const double d = (mesh.rest_uv[i] - spec.material_point_m).norm();
+    if (d <= spec.grip_radius_m) vertices_.push_back(i);
+    if (d < nearest_distance) {
+      nearest_distance = d;
+      nearest = i;
+    }
+  }
+  if (vertices_.empty()) vertices_.push_back(nearest);
+  for (int v : vertices_) offsets_m_.push_back(mesh.rest_uv[v] - spec.material_point_m);
+}
+
+void Clamp::hold(const ClampPose& pose, VecX& x) const {
+  for (std::size_t k = 0; k < vertices_.size(); ++k) {
+    x.segment<3>(3 * vertices_[k]) = pose.position_m + pose.rotation.leftCols<2>() * offsets_m_[k];
+  }
+}
+
+ClampSet::ClampSet(const SheetMesh& mesh, const std::vector<ClampSpec>& specs) {
+  std::set<std::string> ids;
+  std::vector<int> owner(mesh.vertex_count(), -1);
+  for (const ClampSpec& spec : specs) {
+    if (!ids.insert(spec.id).second) {
+      throw std::invalid_argument("clamp id '" + spec.id + "' is used twice");
+    }
+    clamps_.emplace_back(mesh, spec);
+    const int index = static_cast<int>(clamps_.size()) - 1;
+    for (int v : clamps_.back().vertices()) {
+      if (owner[v] >= 0) {
+        throw std::invalid_argument("clamps '" + clamps_[owner[v]].spec().id + "' and '" +
+                                    spec.id + "' grip the same part of the sheet");
+      }
+      owner[v] = index;
+    }
+  }
+}
+
+int ClampSet::index_of(const std::string& id) const {
+  for (int i = 0; i < size(); ++i) {
+    if (clamps_[i].spec().id == id) return i;
+  }
+  throw std::invalid_argument("no clamp with id '" + id + "'");
+}
+
+std::vector<char> ClampSet::fixed_vertices(int vertex_count,
+                                           const std::vector<ClampPose>& poses) const {
+  std::vector<char> fixed(vertex_count, 0);
+  for (int i = 0; i < size(); ++i) {
+    if (!poses[i].engaged) continue;
+    for (int v : clamps_[i].vertices()) fixed[v] = 1;
+  }
+  return fixed;
+}
+
+void ClampSet::hold(const std::vector<ClampPose>& poses, VecX& x) const {
+  for (int i = 0; i < size(); ++i) {
+    if (poses[i].engaged) clamps_[i].hold(poses[i], x);
+  }
+}
+
+VecX place_flat(const SheetMesh& mesh, const SheetPlacement& placement) {
+  VecX x(3 * mesh.vertex_count());
+  for (int i = 0; i < mesh.vertex_count(); ++i) x.segment<3>(3 * i) = placement.to_world(mesh.rest_uv[i]);
+  return x;
+}
+
+}  // namespace twin

@@ -1,0 +1,78 @@
+#pragma once
+// Clamps: each grips a patch of the sheet and holds it at a world pose.
+//
+// A clamp is defined on the material: a point (u, v) (m) and a grip radius (m). It grips every
+// vertex within the radius of the point, or the single nearest vertex when the radius is zero
+// or smaller than the mesh spacing there. While engaged it holds the gripped patch rigidly in
+// its rest shape: vertex i goes to  p + R (u_i - u_c, v_i - v_c, 0),  with p the clamp's world
+// position (m) and R its orientation (columns: world directions of the material u, v and the
+// sheet normal at the clamp). A released clamp holds nothing. Poses may change every step.
+
+#include <string>
+#include <vector>
+
+#include "twin/sheet_mesh.h"
+#include "twin/types.h"
+
+namespace twin {
+
+struct ClampSpec {
+  std::string id;
+  Vec2 material_point_m = Vec2::Zero();
+  double grip_radius_m = 0.0;
+};
+
+struct ClampPose {
+  Vec3 position_m = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  bool engaged = true;
+};
+
+class Clamp {
+ public:
+  // Throws std::invalid_argument naming the clamp if its point is not on the sheet or its
+  // radius is negative or non-finite.
+  Clamp(const SheetMesh& mesh, const ClampSpec& spec);
+  const ClampSpec& spec() const { return spec_; }
+  const std::vector<int>& vertices() const { return vertices_; }
+  // Writes the held positions of the gripped vertices into x (3n).
+  void hold(const ClampPose& pose, VecX& x) const;
+
+ private:
+  ClampSpec spec_;
+  std::vector<int> vertices_;
+  std::vector<Vec2> offsets_m_;  // u_i - u_c
+};
+
+class ClampSet {
+ public:
+  ClampSet() = default;
+  // Throws std::invalid_argument for duplicate ids or two clamps gripping the same vertex.
+  ClampSet(const SheetMesh& mesh, const std::vector<ClampSpec>& specs);
+
+  int size() const { return static_cast<int>(clamps_.size()); }
+  const Clamp& operator[](int i) const { return clamps_[i]; }
+  // Index of the clamp with this id; throws std::invalid_argument naming it if unknown.
+  int index_of(const std::string& id) const;
+
+  // fixed[v] = 1 for every vertex gripped by an engaged clamp. poses.size() == size().
+  std::vector<char> fixed_vertices(int vertex_count, const std::vector<ClampPose>& poses) const;
+  // Writes the held positions of every engaged clamp into x.
+  void hold(const std::vector<ClampPose>& poses, VecX& x) const;
+
+ private:
+  std::vector<Clamp> clamps_;
+};
+
+// World placement of the flat sheet: material point (0, 0) at `origin_m`; the columns of
+// `rotation` are the world directions of u, v and the sheet normal.
+struct SheetPlacement {
+  Vec3 origin_m = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  Vec3 to_world(const Vec2& uv) const { return origin_m + rotation.leftCols<2>() * uv; }
+};
+
+// Positions (3n) of the sheet lying flat as placed.
+VecX place_flat(const SheetMesh& mesh, const SheetPlacement& placement);
+
+}  // namespace twin

@@ -1,0 +1,66 @@
+#include "twin/implicit_stepper.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "twin/static_solver.h"
+
+namespace twin {
+
+StepOptions default_step_options() {
+  StepOptions options;
+  options.newton.max_iterations = 20;
+  options.newton.residual_tolerance = 1e-6;
+  options.newton.exact_hessian_below = 0.0;  // projected Hessian: inertia keeps it well posed
+  return options;
+}
+
+ImplicitStepper::ImplicitStepper(const ShellModel& model)
+    : model_(model),
+      inertia_(model.vertex_masses_kg(), model.material().mass_damping_1_s),
+      viscosity_(model.membrane().elements(), model.vertex_count(),
+                 model.material().tensile_viscosity_Ns_m, model.material().shear_viscosity_Ns_m),
+      objective_({&model.membrane(), &model.bending(), &model.gravity(), &inertia_, &viscosity_}) {}
+
+void ImplicitStepper::sync_material() {
+  inertia_.set_masses(model_.vertex_masses_kg());
+  inertia_.set_mass_damping(model_.material().mass_damping_1_s);
+  viscosity_.set_viscosity(model_.material().tensile_viscosity_Ns_m,
+                           model_.material().shear_viscosity_Ns_m);
+}
+
+SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
+                                  const std::vector<ClampPose>& poses,
+                                  const StepOptions& options) {
+  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  inertia_.set_step(x, v, dt_s);
+  viscosity_.set_step(x, dt_s);
+  // Start from the inertial prediction; clamped vertices go to their poses.
+  VecX next = x + dt_s * v;
+  clamps.hold(poses, next);
+  SolveReport report =
+      newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), next, options.newton);
+  if (!report.usable()) return report;
+  VecX velocity = (next - x) / dt_s;
+  double top_speed = 0.0;
+  for (int i = 0; i < dofs.vertex_count(); ++i) top_speed = std::max(top_speed, velocity.segment<3>(3 * i).norm());
+  if (!(top_speed <= options.max_speed_m_s)) {
+    report.status = SolveStatus::kBlowUp;
+    report.message = fmt::format("speed {:.3g} m/s > {:.3g} m/s", top_speed, options.max_speed_m_s);
+    return report;
+  }
+  x.swap(next);
+  v.swap(velocity);
+  return report;
+}
+
+double kinetic_energy(const ShellModel& model, const VecX& v) {
+  double energy = 0.0;
+  for (int i = 0; i < model.vertex_count(); ++i) {
+    energy += 0.5 * model.vertex_masses_kg()[i] * v.segment<3>(3 * i).squaredNorm();
+  }
+  return energy;
+}
+
+}  // namespace twin

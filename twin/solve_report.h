@@ -1,0 +1,33 @@
+#pragma once
+// What a solve did: whether its result may be used, why it stopped, and what it cost.
+// Solvers return this instead of throwing; a result that is not usable is never written back.
+
+#include <string>
+
+namespace twin {
+
+enum class SolveStatus {
+  kConverged,           // residual below tolerance: the result is an equilibrium / a valid step
+  kMaxIterations,       // no convergence within the iteration budget
+  kLineSearchFailed,    // no step decreased the energy (stagnation or a broken model)
+  kNonFinite,           // NaN or infinity in energy or forces (diverged or degenerate triangle)
+  kIndefinite,          // no positive-definite system even after shifting
+  kBlowUp,              // a dynamic step produced implausible velocities
+};
+
+const char* to_string(SolveStatus status);
+
+struct SolveReport {
+  SolveStatus status = SolveStatus::kMaxIterations;
+  int iterations = 0;        // Newton iterations
+  int factorizations = 0;    // numeric Cholesky factorisations (shifted retries included)
+  double residual = 0.0;     // ||free force|| / force scale, at the returned (or best) state
+  double energy_J = 0.0;
+  double seconds = 0.0;
+  std::string message;
+
+  bool usable() const { return status == SolveStatus::kConverged; }
+  std::string brief() const;
+};
+
+}  // namespace twin

@@ -1,0 +1,32 @@
+#pragma once
+// Sparse Cholesky factorisation of the free-DOF Hessian with CHOLMOD (supernodal, through
+// Eigen's CholmodSupport). The symbolic analysis (fill-reducing ordering, supernode structure)
+// is done once per sparsity pattern; each Newton iteration only refactorises numerically.
+
+#include <memory>
+
+#include "twin/hessian_pattern.h"
+
+namespace twin {
+
+class SparseCholesky {
+ public:
+  SparseCholesky();
+  ~SparseCholesky();
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  // Symbolic analysis of the pattern of `upper` (upper triangle of a symmetric matrix).
+  void analyze(const HessianPattern::Matrix& upper);
+  // Numeric factorisation of upper + shift * I. False if the matrix is not positive definite.
+  bool factorize(const HessianPattern::Matrix& upper, double shift = 0.0);
+  VecX solve(const VecX& rhs) const;
+  bool analyzed() const { return analyzed_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  bool analyzed_ = false;
+};
+
+}  // namespace twin

@@ -1,0 +1,35 @@
+#pragma once
+// Static equilibrium of the sheet under gravity with clamps held at given poses: the minimum
+// of membrane + bending + gravity energy over the free vertices, by Newton (newton_solver.h).
+// Hanging sheets have several equilibria; which one is found depends on the start, so callers
+// that follow a real motion should use quasi_static.h.
+
+#include "twin/clamp.h"
+#include "twin/newton_solver.h"
+#include "twin/shell_model.h"
+
+namespace twin {
+
+NewtonOptions default_static_options();
+
+// ||weight on the free vertices|| (N): the unit of solver residuals, so that a tolerance means
+// the same on every mesh.
+double free_weight_N(const ShellModel& model, const DofMap& dofs);
+
+class StaticSolver {
+ public:
+  explicit StaticSolver(const ShellModel& model);
+
+  // x (3n): the start. Clamped vertices are set to their held positions before solving. On
+  // success x is the equilibrium; otherwise x is unchanged (clamped vertices included) and the
+  // report says why.
+  SolveReport solve(const ClampSet& clamps, const std::vector<ClampPose>& poses, VecX& x,
+                    const NewtonOptions& options = default_static_options());
+
+ private:
+  const ShellModel& model_;
+  Objective objective_;
+  NewtonSolver newton_;
+};
+
+}  // namespace twin
