@@ -55,20 +55,26 @@ BendingCalibration::BendingCalibration(const SheetMesh& mesh, const std::vector<
   }
   // response(d, c) = sum_e w_e n_c^2 t_e(d)^2 for cylinder direction d and coefficient c.
   Mat2 response = Mat2::Zero();
+  double scalar_response = 0.0;
   for (int d = 0; d < 2; ++d) {
     const std::vector<double> t = unit_curvature_angles(mesh, hinges, d * M_PI / 2.0);
     for (std::size_t e = 0; e < hinges.size(); ++e) {
+      scalar_response += weight_[e] * t[e] * t[e];
       for (int c = 0; c < 2; ++c) {
         response(d, c) += weight_[e] * normal_[e](c) * normal_[e](c) * t[e] * t[e];
       }
     }
   }
+  // Meshes of a handful of triangles can leave the 2x2 fit degenerate; they still get a single
+  // isotropic factor matching the mean of the u and v cylinders.
+  isotropic_factor_ = hinge_area_m2_ / scalar_response;
   // Energy along d: a response(d,0) + b response(d,1) = D_d / 2 * hinge_area.
   to_coefficients_ = 0.5 * hinge_area_m2_ * response.inverse();
 }
 
 std::vector<double> BendingCalibration::hinge_stiffnesses(double du, double dv) const {
-  const Vec2 ab = to_coefficients_ * Vec2(du, dv);
+  Vec2 ab = to_coefficients_ * Vec2(du, dv);
+  if (!(ab.minCoeff() > 0.0) && du == dv) ab = Vec2::Constant(isotropic_factor_ * du);
   if (!(ab.minCoeff() > 0.0)) {
     throw std::invalid_argument(
         "bending rigidity ratio warp/weft = " + std::to_string(dv / du) +

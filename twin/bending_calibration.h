@@ -37,6 +37,7 @@ class BendingCalibration {
   std::vector<Vec2> normal_;    // n_e
   double hinge_area_m2_ = 0.0;
   Mat2 to_coefficients_;        // (a, b) = to_coefficients_ * (D_u, D_v)
+  double isotropic_factor_ = 0.0;  // fallback a = b = factor * D for degenerate tiny meshes
 };
 
 // The rest mesh wrapped on a cylinder whose curvature (1/m) acts along the material direction at

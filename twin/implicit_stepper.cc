@@ -11,8 +11,12 @@ namespace twin {
 StepOptions default_step_options() {
   StepOptions options;
   options.newton.max_iterations = 20;
-  options.newton.residual_tolerance = 1e-6;
-  options.newton.exact_hessian_below = 0.0;  // projected Hessian: inertia keeps it well posed
+  // Force imbalance below 1e-5 of the sheet's weight: far below what a camera can see.
+  options.newton.residual_tolerance = 1e-5;
+  // The exact Hessian near the solution gives quadratic convergence; the projected one alone
+  // converges only linearly wherever the membrane is in compression (measured: 16 vs 4-6
+  // iterations per step on the benchmark sheet).
+  options.newton.exact_hessian_below = 0.1;
   return options;
 }
 

@@ -3,11 +3,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+
+#include "twin/json_field.h"
 
 namespace twin {
 namespace {
@@ -23,13 +24,6 @@ std::string format_value(double v) {
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
   throw std::invalid_argument(source + ": field '" + field + "' " + what);
-}
-
-double number_field(const json& j, const std::string& source, const std::string& field) {
-  if (!j.is_number()) fail(source, field, "must be a number, got " + std::string(j.type_name()));
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) fail(source, field, "must be finite");
-  return v;
 }
 
 void require_positive(double v, const std::string& source, const std::string& field,
@@ -49,38 +43,18 @@ void require_non_negative(double v, const std::string& source, const std::string
 }
 
 // A directional property is a number (isotropic) or {"weft": u, "warp": v}.
-std::pair<double, double> directional_field(const json& j, const std::string& source,
-                                            const std::string& field) {
-  if (j.is_object()) {
-    for (const auto& [key, value] : j.items()) {
-      if (key != "weft" && key != "warp") {
-        fail(source, field + "." + key, "is not known; expected 'weft' (u) and 'warp' (v)");
-      }
-    }
-    if (!j.contains("weft") || !j.contains("warp")) {
-      fail(source, field, "must give both 'weft' and 'warp' when given per direction");
-    }
-    return {number_field(j.at("weft"), source, field + ".weft"),
-            number_field(j.at("warp"), source, field + ".warp")};
+std::pair<double, double> directional(const JsonField& f, const char* unit) {
+  if (f.is_object()) {
+    f.only_keys({"weft", "warp"});
+    return {f["weft"].number(unit), f["warp"].number(unit)};
   }
-  const double v = number_field(j, source, field);
+  const double v = f.number(unit);
   return {v, v};
 }
 
 json directional_json(double u, double v) {
   if (u == v) return u;
   return json{{"weft", u}, {"warp", v}};
-}
-
-void reject_unknown_keys(const json& j, const std::set<std::string>& known,
-                         const std::string& source, const std::string& prefix) {
-  for (const auto& [key, value] : j.items()) {
-    if (!known.count(key)) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      fail(source, prefix + key, "is not a known field; expected one of: " + list);
-    }
-  }
 }
 
 }  // namespace
@@ -125,75 +99,50 @@ double bending_rigidity_from_modulus(double modulus_Pa, double thickness_m, doub
 }
 
 Material material_from_json(const json& j, const std::string& source) {
-  if (!j.is_object()) throw std::invalid_argument(source + ": a material must be a JSON object");
-  reject_unknown_keys(j,
-                      {"name", "surface_density_kg_m2", "tensile_stiffness_N_m",
-                       "shear_stiffness_N_m", "poisson_ratio", "bending_rigidity_Nm",
-                       "bending_modulus_Pa", "thickness_m", "viscosity", "bending_given_as"},
-                      source, "");
-  auto required = [&](const char* field) -> const json& {
-    if (!j.contains(field)) fail(source, field, "is missing");
-    return j.at(field);
-  };
+  const JsonField f(j, source);
+  f.only_keys({"name", "surface_density_kg_m2", "tensile_stiffness_N_m", "shear_stiffness_N_m",
+               "poisson_ratio", "bending_rigidity_Nm", "bending_modulus_Pa", "thickness_m",
+               "viscosity", "bending_given_as"});
   Material m;
-  if (j.contains("name")) {
-    if (!j.at("name").is_string()) fail(source, "name", "must be a string");
-    m.name = j.at("name").get<std::string>();
-  }
-  m.surface_density_kg_m2 =
-      number_field(required("surface_density_kg_m2"), source, "surface_density_kg_m2");
+  if (auto name = f.optional("name")) m.name = name->string();
+  m.surface_density_kg_m2 = f["surface_density_kg_m2"].number("kg/m^2");
   std::tie(m.tensile_stiffness_u_N_m, m.tensile_stiffness_v_N_m) =
-      directional_field(required("tensile_stiffness_N_m"), source, "tensile_stiffness_N_m");
-  m.shear_stiffness_N_m =
-      number_field(required("shear_stiffness_N_m"), source, "shear_stiffness_N_m");
-  if (j.contains("poisson_ratio")) {
-    m.poisson_ratio = number_field(j.at("poisson_ratio"), source, "poisson_ratio");
-  }
-  if (j.contains("thickness_m")) {
-    m.thickness_m = number_field(j.at("thickness_m"), source, "thickness_m");
-    require_positive(*m.thickness_m, source, "thickness_m", "m");
-  }
-  const bool rigidity = j.contains("bending_rigidity_Nm");
-  const bool modulus = j.contains("bending_modulus_Pa");
+      directional(f["tensile_stiffness_N_m"], "N/m");
+  m.shear_stiffness_N_m = f["shear_stiffness_N_m"].number("N/m");
+  if (auto nu = f.optional("poisson_ratio")) m.poisson_ratio = nu->number("(dimensionless)");
+  if (auto t = f.optional("thickness_m")) m.thickness_m = t->positive("m");
+  const bool rigidity = f.has("bending_rigidity_Nm");
+  const bool modulus = f.has("bending_modulus_Pa");
   if (rigidity == modulus) {
     fail(source, "bending_rigidity_Nm",
          "or 'bending_modulus_Pa' (with 'thickness_m') must be given, exactly one of them");
   }
-  if (j.contains("bending_given_as")) {
-    const json& given = j.at("bending_given_as");
+  if (auto given = f.optional("bending_given_as")) {
     const std::string expected = rigidity ? "rigidity" : "modulus";
-    if (!given.is_string() || given.get<std::string>() != expected) {
-      fail(source, "bending_given_as",
-           "must be \"" + expected + "\" to match the bending field present in the file");
+    if (!given->is_string() || given->string() != expected) {
+      given->fail("must be \"" + expected + "\" to match the bending field present in the file");
     }
   }
   if (rigidity) {
     std::tie(m.bending_rigidity_u_Nm, m.bending_rigidity_v_Nm) =
-        directional_field(j.at("bending_rigidity_Nm"), source, "bending_rigidity_Nm");
+        directional(f["bending_rigidity_Nm"], "N*m");
   } else {
-    auto [eu, ev] = directional_field(j.at("bending_modulus_Pa"), source, "bending_modulus_Pa");
-    require_positive(eu, source, "bending_modulus_Pa", "N/m^2");
-    require_positive(ev, source, "bending_modulus_Pa", "N/m^2");
-    if (!m.thickness_m) fail(source, "thickness_m", "is needed to convert bending_modulus_Pa");
+    const JsonField field = f["bending_modulus_Pa"];
+    auto [eu, ev] = directional(field, "N/m^2");
+    if (!(eu > 0.0 && ev > 0.0)) field.fail("must be positive (N/m^2)");
+    if (!m.thickness_m) f["thickness_m"].fail("is needed to convert bending_modulus_Pa");
     m.bending_modulus_u_Pa = eu;
     m.bending_modulus_v_Pa = ev;
     m.bending_rigidity_u_Nm = bending_rigidity_from_modulus(eu, *m.thickness_m, m.poisson_ratio);
     m.bending_rigidity_v_Nm = bending_rigidity_from_modulus(ev, *m.thickness_m, m.poisson_ratio);
   }
-  if (j.contains("viscosity")) {
-    const json& v = j.at("viscosity");
-    if (!v.is_object()) fail(source, "viscosity", "must be an object");
-    reject_unknown_keys(v, {"tensile_Ns_m", "shear_Ns_m", "mass_damping_1_s"}, source,
-                        "viscosity.");
-    if (v.contains("tensile_Ns_m"))
-      m.tensile_viscosity_Ns_m = number_field(v.at("tensile_Ns_m"), source, "viscosity.tensile_Ns_m");
-    if (v.contains("shear_Ns_m"))
-      m.shear_viscosity_Ns_m = number_field(v.at("shear_Ns_m"), source, "viscosity.shear_Ns_m");
-    if (v.contains("mass_damping_1_s"))
-      m.mass_damping_1_s =
-          number_field(v.at("mass_damping_1_s"), source, "viscosity.mass_damping_1_s");
+  if (auto v = f.optional("viscosity")) {
+    v->only_keys({"tensile_Ns_m", "shear_Ns_m", "mass_damping_1_s"});
+    if (auto x = v->optional("tensile_Ns_m")) m.tensile_viscosity_Ns_m = x->number("N*s/m");
+    if (auto x = v->optional("shear_Ns_m")) m.shear_viscosity_Ns_m = x->number("N*s/m");
+    if (auto x = v->optional("mass_damping_1_s")) m.mass_damping_1_s = x->number("1/s");
   }
-  // Re-validate with the file named, so every message points at the file.
+  // Range checks, with the file named in every message.
   const std::string name = m.name;
   m.name = source;
   m.validate();
@@ -223,15 +172,7 @@ json material_to_json(const Material& m) {
 }
 
 Material read_material_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open material file");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw std::runtime_error(path + ": not valid JSON: " + e.what());
-  }
-  return material_from_json(j, path);
+  return material_from_json(JsonField::parse_file(path), path);
 }
 
 void write_material_file(const std::string& path, const Material& m) {

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# One idempotent set-up step for a fresh Debian 12 machine: install exactly the Debian packages
+# the project uses (no recommends), then configure and build (Release, -j2) into build/.
+# Re-running it only rebuilds what changed. Set PREPREG_SKIP_APT=1 to skip the install step
+# (for machines where the packages are already present and apt is not usable).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  build-essential cmake pkg-config             # compiler and build
+  libeigen3-dev                                # Eigen (twin)
+  libsuitesparse-dev libopenblas-dev           # CHOLMOD, with OpenBLAS as its BLAS
+  libnlopt-cxx-dev                             # NLopt C++ (identification)
+  libopenni2-dev libv4l-dev                    # camera drivers
+  libpcl-dev                                   # tracking
+  liblcm-dev liblcm-bin libglib2.0-dev         # LCM bus and lcm-gen (lcm.pc needs glib)
+  catch2                                       # tests
+  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+)
+
+if [[ "${PREPREG_SKIP_APT:-0}" != 1 ]]; then
+  missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    SUDO=""
+    [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+    echo "setup: installing ${missing[*]}"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j2

@@ -1,0 +1,88 @@
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "tests/support/finite_difference.h"
+#include "tests/support/random_states.h"
+#include "twin/inertia_term.h"
+#include "twin/newton_solver.h"
+#include "twin/shell_model.h"
+#include "twin/viscosity_term.h"
+
+namespace twin {
+namespace {
+
+// Checks a term's assembled gradient and Hessian (all vertices free) by finite differences.
+testing::DerivativeErrors check_term(const EnergyTerm& term, const VecX& x) {
+  const Objective objective({&term});
+  const DofMap dofs(std::vector<char>(x.size() / 3, 0));
+  auto pattern = std::make_shared<HessianPattern>(dofs, objective.stencils());
+  auto f = [&objective, pattern](const VecX& y, VecX* g, Eigen::MatrixXd* h) {
+    const double e = objective.evaluate(y, g, h ? pattern.get() : nullptr, HessianMode::kExact);
+    if (h) {
+      const Eigen::MatrixXd upper(pattern->matrix());
+      *h = upper.selfadjointView<Eigen::Upper>();
+    }
+    return e;
+  };
+  return testing::finite_difference_errors(f, x, 1e-7);
+}
+
+TEST_CASE("inertia and viscosity terms match finite differences", "[twin][energy]") {
+  Material material;
+  material.tensile_viscosity_Ns_m = 3.0;
+  material.shear_viscosity_Ns_m = 1.5;
+  material.mass_damping_1_s = 0.4;
+  const ShellModel model(make_rectangular_sheet(0.2, 0.1, 0.05), material);
+  std::mt19937 rng(4);
+  const VecX x0 = testing::random_deformed(model.mesh().rest_uv, 0.2, 0.05, rng);
+  const VecX v0 = VecX::Random(x0.size());
+  const VecX x = x0 + 0.01 * v0 + 1e-3 * VecX::Random(x0.size());
+
+  InertiaTerm inertia(model.vertex_masses_kg(), material.mass_damping_1_s);
+  inertia.set_step(x0, v0, 0.01);
+  const auto inertia_errors = check_term(inertia, x);
+  INFO("inertia " << inertia_errors.report());
+  CHECK(inertia_errors.gradient < 1e-6);
+  CHECK(inertia_errors.hessian < 1e-6);
+
+  ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(),
+                          material.tensile_viscosity_Ns_m, material.shear_viscosity_Ns_m);
+  viscosity.set_step(x0, 0.01);
+  const auto viscosity_errors = check_term(viscosity, x);
+  INFO("viscosity " << viscosity_errors.report());
+  CHECK(viscosity_errors.gradient < 1e-6);
+  CHECK(viscosity_errors.hessian < 1e-6);
+}
+
+TEST_CASE("viscous force is the strain-rate stress of the paper", "[twin][energy]") {
+  // For a velocity v, the viscous force on a triangle is -A0 J^T C' J v (paper Eq. 9).
+  Material material;
+  material.tensile_viscosity_Ns_m = 2.0;
+  material.shear_viscosity_Ns_m = 0.5;
+  const ShellModel model(make_rectangular_sheet(0.1, 0.1, 0.1), material);
+  std::mt19937 rng(8);
+  const VecX x0 = testing::random_deformed(model.mesh().rest_uv, 0.1, 0.05, rng);
+  const VecX v = VecX::Random(x0.size());
+  const double dt = 0.01;
+  ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(), 2.0, 0.5);
+  viscosity.set_step(x0, dt);
+  VecX grad = VecX::Zero(x0.size());
+  viscosity.evaluate(x0 + dt * v, &grad, nullptr, HessianMode::kExact);
+  VecX expected = VecX::Zero(x0.size());
+  for (const MembraneElement& e : model.membrane().elements()) {
+    Vec9 xe, ve;
+    for (int k = 0; k < 3; ++k) {
+      xe.segment<3>(3 * k) = x0.segment<3>(3 * e.v[k]);
+      ve.segment<3>(3 * k) = v.segment<3>(3 * e.v[k]);
+    }
+    StrainJacobian j;
+    membrane_strain(e, xe, &j);
+    const Vec3 strain_rate = j * ve;
+    const Vec9 f = e.rest_area_m2 * j.transpose() * Vec3(2.0, 2.0, 0.5).asDiagonal() * strain_rate;
+    for (int k = 0; k < 3; ++k) expected.segment<3>(3 * e.v[k]) += f.segment<3>(3 * k);
+  }
+  CHECK((grad - expected).norm() < 1e-12 * expected.norm());
+}
+
+}  // namespace
+}  // namespace twin

@@ -1,0 +1,147 @@
+// Benchmark of the sheet twin (issue 2): the paper's composite sheet (1.17 x 0.975 m,
+// 0.3 kg/m^2, tensile 5000 N/m, shear 5000 N/m, bending 0.001 N*m) held by four clamps, on
+// meshes of about 1.5k, 6k and 24k triangles, with one and two threads. For each it prints
+// the static equilibrium from the flat sheet (time, Newton iterations) and the implicit
+// backward-Euler step (dt 10 ms, median and 90th percentile over >= 100 steps after warm-up,
+// while one clamp circles so the sheet keeps moving), and the peak resident memory.
+//
+// Each (mesh, threads) case runs in its own process so peak RSS and thread settings are its own.
+// Usage: twin_benchmark [--steps N] [--sizes 1500,6000,24000] [--threads 1,2]
+
+#include <omp.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "twin/implicit_stepper.h"
+#include "twin/static_solver.h"
+
+namespace {
+
+using namespace twin;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kWidth = 1.17, kHeight = 0.975;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+double percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(p * v.size())))];
+}
+
+int run_case(int triangles, int threads, int steps) {
+  omp_set_num_threads(threads);
+  Material material;
+  material.name = "benchmark composite";
+  material.surface_density_kg_m2 = 0.3;
+  material.tensile_stiffness_u_N_m = material.tensile_stiffness_v_N_m = 5000.0;
+  material.shear_stiffness_N_m = 5000.0;
+  material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 1e-3;
+  material.poisson_ratio = 0.3;
+  material.tensile_viscosity_Ns_m = material.shear_viscosity_Ns_m = 5.0;
+  const ShellModel model(
+      make_rectangular_sheet(kWidth, kHeight, edge_length_for_triangle_count(kWidth, kHeight, triangles)),
+      material);
+  // Clamps at distinct distances from the corners; they hold the sheet 10 % closer to its
+  // centre than the flat sheet, so it sags.
+  const std::vector<ClampSpec> specs = {{"A", Vec2(0.10, 0.05), 0.02},
+                                        {"B", Vec2(kWidth - 0.05, 0.15), 0.02},
+                                        {"C", Vec2(kWidth - 0.20, kHeight - 0.05), 0.02},
+                                        {"D", Vec2(0.05, kHeight - 0.30), 0.02}};
+  const ClampSet clamps(model.mesh(), specs);
+  SheetPlacement placement;
+  placement.origin_m = Vec3(0.0, 0.0, 1.0);
+  const Vec3 centre = placement.to_world(Vec2(kWidth / 2, kHeight / 2));
+  std::vector<ClampPose> poses(specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    poses[i].position_m = centre + 0.9 * (placement.to_world(specs[i].material_point_m) - centre);
+  }
+
+  VecX x = place_flat(model.mesh(), placement);
+  StaticSolver statics(model);
+  const auto static_start = Clock::now();
+  const SolveReport equilibrium = statics.solve(clamps, poses, x);
+  const double static_ms = 1e3 * seconds_since(static_start);
+
+  ImplicitStepper stepper(model);
+  VecX v = VecX::Zero(x.size());
+  const double dt = 0.01;
+  const int warm_up = 10;
+  std::vector<double> step_ms;
+  int newton = 0, failed = 0;
+  const Vec3 a0 = poses[0].position_m;
+  for (int s = 0; s < warm_up + steps; ++s) {
+    // Clamp A circles (radius 5 cm, 2 s period) so the sheet never settles.
+    const double t = (s + 1) * dt;
+    poses[0].position_m = a0 + 0.05 * Vec3(std::cos(M_PI * t) - 1.0, std::sin(M_PI * t), 0.0);
+    const auto t0 = Clock::now();
+    const SolveReport r = stepper.step(x, v, dt, clamps, poses);
+    const double ms = 1e3 * seconds_since(t0);
+    if (!r.usable()) ++failed;
+    if (s >= warm_up) {
+      step_ms.push_back(ms);
+      newton += r.iterations;
+    }
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  fmt::print(
+      "triangles {:6d}  vertices {:6d}  threads {}  | step median {:7.2f} ms  p90 {:7.2f} ms  "
+      "Newton/step {:.2f}  failed {}  | static {:8.1f} ms  {:4d} Newton iterations  {}  | "
+      "peak RSS {:6.1f} MB\n",
+      model.mesh().triangle_count(), model.vertex_count(), threads, percentile(step_ms, 0.5),
+      percentile(step_ms, 0.9), static_cast<double>(newton) / steps, failed, static_ms,
+      equilibrium.iterations, equilibrium.usable() ? "converged" : to_string(equilibrium.status),
+      usage.ru_maxrss / 1024.0);
+  std::fflush(stdout);
+  return equilibrium.usable() && failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Twin benchmark: implicit step and static equilibrium on the paper's sheet"};
+  std::vector<int> sizes = {1500, 6000, 24000}, thread_counts = {1, 2};
+  int steps = 100, only_size = 0, only_threads = 0;
+  app.add_option("--sizes", sizes, "target triangle counts")->delimiter(',');
+  app.add_option("--threads", thread_counts, "thread counts")->delimiter(',');
+  app.add_option("--steps", steps, "timed implicit steps per case (after 10 warm-up steps)");
+  app.add_option("--case-size", only_size)->group("");  // internal: run one case in this process
+  app.add_option("--case-threads", only_threads)->group("");
+  CLI11_PARSE(app, argc, argv);
+  if (only_size > 0) return run_case(only_size, only_threads, steps);
+
+  fmt::print("twin benchmark: sheet {} x {} m, 0.3 kg/m^2, Y 5000 N/m, G 5000 N/m, D 0.001 N*m, "
+             "four clamps, dt 10 ms, {} timed steps; one process per case\n",
+             kWidth, kHeight, steps);
+  std::fflush(stdout);
+  int status = 0;
+  for (int size : sizes) {
+    for (int threads : thread_counts) {
+      const pid_t pid = fork();
+      if (pid == 0) {
+        execl("/proc/self/exe", argv[0], "--case-size", std::to_string(size).c_str(),
+              "--case-threads", std::to_string(threads).c_str(), "--steps",
+              std::to_string(steps).c_str(), static_cast<char*>(nullptr));
+        _exit(127);
+      }
+      int child = 0;
+      waitpid(pid, &child, 0);
+      if (!WIFEXITED(child) || WEXITSTATUS(child) != 0) status = 1;
+    }
+  }
+  return status;
+}

@@ -1,0 +1,127 @@
+#include "twin/quasi_static.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace twin {
+namespace {
+
+double rotation_angle(const Mat3& a, const Mat3& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle();
+}
+
+}  // namespace
+
+std::string ContinuationReport::brief() const {
+  return fmt::format("{} ({} increments, {} Newton iterations, {} factorizations, {:.1f} ms)",
+                     last.usable() ? "converged" : to_string(last.status), increments,
+                     newton_iterations, factorizations, 1e3 * seconds);
+}
+
+ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t) {
+  ClampPose p;
+  p.engaged = b.engaged;
+  p.position_m = (1.0 - t) * a.position_m + t * b.position_m;
+  p.rotation = Eigen::Quaterniond(a.rotation).slerp(t, Eigen::Quaterniond(b.rotation)).toRotationMatrix();
+  return p;
+}
+
+QuasiStaticSolver::QuasiStaticSolver(const ShellModel& model, const ClampSet& clamps)
+    : model_(model), clamps_(clamps), statics_(model) {}
+
+Vec3 QuasiStaticSolver::material_point_position(const Vec2& uv, const VecX& x) const {
+  const SheetMesh& mesh = model_.mesh();
+  int best = 0;
+  double best_outside = 1e300;
+  Vec3 best_weights(1.0, 0.0, 0.0);
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    Mat2 edges;
+    edges.col(0) = mesh.rest_uv[tri[1]] - mesh.rest_uv[tri[0]];
+    edges.col(1) = mesh.rest_uv[tri[2]] - mesh.rest_uv[tri[0]];
+    const Vec2 bc = edges.inverse() * (uv - mesh.rest_uv[tri[0]]);
+    const Vec3 w(1.0 - bc.sum(), bc.x(), bc.y());
+    const double outside = -std::min(0.0, w.minCoeff());
+    if (outside < best_outside) {
+      best_outside = outside;
+      best = t;
+      best_weights = w;
+    }
+  }
+  const auto& tri = mesh.triangles[best];
+  return best_weights(0) * x.segment<3>(3 * tri[0]) + best_weights(1) * x.segment<3>(3 * tri[1]) +
+         best_weights(2) * x.segment<3>(3 * tri[2]);
+}
+
+ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
+                                           const std::vector<ClampPose>& to, VecX& x,
+                                           const ContinuationOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  ContinuationReport report;
+  const VecX x_entry = x;
+  auto solve = [&](const std::vector<ClampPose>& poses) {
+    report.last = statics_.solve(clamps_, poses, x, options.newton);
+    report.newton_iterations += report.last.iterations;
+    report.factorizations += report.last.factorizations;
+    if (report.last.usable()) ++report.increments;
+    return report.last.usable();
+  };
+  auto done = [&](bool ok) {
+    if (!ok) x = x_entry;
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+  };
+
+  // 1. Releases: clamps engaged before and released now let go at their current poses.
+  std::vector<ClampPose> current = from;
+  bool released = false;
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    if (current[i].engaged && !to[i].engaged) {
+      current[i].engaged = false;
+      released = true;
+    }
+  }
+  if (released && !solve(current)) return done(false);
+
+  // 2. Grips: a newly engaged clamp starts where its material point is now.
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    if (to[i].engaged && !current[i].engaged) {
+      current[i].engaged = true;
+      current[i].position_m = material_point_position(clamps_[i].spec().material_point_m, x);
+      current[i].rotation = to[i].rotation;
+    }
+  }
+
+  // 3. Travel in increments; halve the increment when a solve fails.
+  double travel = 0.0, turn = 0.0;
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    if (!to[i].engaged) continue;
+    travel = std::max(travel, (to[i].position_m - current[i].position_m).norm());
+    turn = std::max(turn, rotation_angle(current[i].rotation, to[i].rotation));
+  }
+  const std::vector<ClampPose> origin = current;
+  int steps = std::max(1, static_cast<int>(std::ceil(std::max(travel / options.increment_m,
+                                                              turn / options.increment_rad))));
+  const int max_steps = 64 * steps;
+  double done_fraction = 0.0;
+  while (done_fraction < 1.0) {
+    const double next = std::min(1.0, done_fraction + 1.0 / steps);
+    std::vector<ClampPose> poses = to;
+    for (std::size_t i = 0; i < to.size(); ++i) {
+      if (to[i].engaged) poses[i] = interpolate(origin[i], to[i], next);
+    }
+    const VecX before = x;
+    if (solve(poses)) {
+      done_fraction = next;
+    } else {
+      x = before;
+      steps *= 2;
+      if (steps > max_steps) return done(false);
+    }
+  }
+  return done(true);
+}
+
+}  // namespace twin

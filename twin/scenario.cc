@@ -1,0 +1,165 @@
+#include "twin/scenario.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "twin/json_field.h"
+#include "twin/mesh_io.h"
+
+namespace twin {
+namespace {
+
+std::string resolve(const std::string& base, const std::string& path) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || base.empty() ? path : (std::filesystem::path(base) / p).string();
+}
+
+Mat3 rotation_from_degrees(const Vec3& deg) {
+  const Vec3 r = deg * M_PI / 180.0;
+  return (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+          Eigen::AngleAxisd(r.x(), Vec3::UnitX())).toRotationMatrix();
+}
+
+void read_sheet(const JsonField& f, const std::string& base, Scenario& s) {
+  f.only_keys({"width_m", "height_m", "edge_length_m", "target_triangles", "pattern",
+               "mesh_file", "placement"});
+  if (auto file = f.optional("mesh_file")) {
+    for (const char* k : {"width_m", "height_m", "edge_length_m", "target_triangles"}) {
+      if (f.has(k)) f[k].fail("cannot be combined with mesh_file");
+    }
+    const std::string path = resolve(base, file->string());
+    s.mesh = sheet_mesh_from_flat(read_surface_mesh(path));
+    s.mesh_description = fmt::format("mesh {} ({} triangles)", path, s.mesh.triangle_count());
+  } else {
+    const double width = f["width_m"].positive("m");
+    const double height = f["height_m"].positive("m");
+    double edge = 0.0;
+    if (f.has("edge_length_m") == f.has("target_triangles")) {
+      f["edge_length_m"].fail("or 'target_triangles' must be given, exactly one of them");
+    }
+    if (auto e = f.optional("edge_length_m")) edge = e->positive("m");
+    if (auto t = f.optional("target_triangles")) {
+      edge = edge_length_for_triangle_count(width, height, t->positive_integer());
+    }
+    TriangulationPattern pattern = TriangulationPattern::kOffsetRows;
+    if (auto p = f.optional("pattern")) {
+      const std::string name = p->string();
+      if (name == "right_triangles") {
+        pattern = TriangulationPattern::kRightTriangles;
+      } else if (name != "offset_rows") {
+        p->fail("must be \"offset_rows\" (default) or \"right_triangles\"");
+      }
+    }
+    s.mesh = make_rectangular_sheet(width, height, edge, pattern);
+    s.mesh_description = fmt::format("rectangle {} x {} m, edge {:.4f} m, {} triangles", width,
+                                     height, edge, s.mesh.triangle_count());
+  }
+  if (auto p = f.optional("placement")) {
+    p->only_keys({"origin_m", "rotation_deg"});
+    if (auto o = p->optional("origin_m")) s.placement.origin_m = o->vec3("m");
+    if (auto r = p->optional("rotation_deg")) s.placement.rotation = rotation_from_degrees(r->vec3("deg"));
+  }
+}
+
+void read_clamps(const JsonField& f, Scenario& s) {
+  for (std::size_t i = 0; i < f.array_size(); ++i) {
+    const JsonField c = f[i];
+    c.only_keys({"id", "material_point_m", "grip_radius_m"});
+    ClampSpec spec;
+    spec.id = c["id"].string();
+    if (spec.id.empty()) c["id"].fail("must not be empty");
+    spec.material_point_m = c["material_point_m"].vec2("m");
+    if (auto r = c.optional("grip_radius_m")) spec.grip_radius_m = r->non_negative("m");
+    s.clamps.push_back(spec);
+  }
+}
+
+ClampPose read_pose(const JsonField& f, const ClampPose& previous, const SheetPlacement& placement) {
+  ClampPose pose = previous;
+  pose.engaged = true;
+  if (f.is_string()) {
+    if (f.string() != "released") f.fail("must be [x, y, z] (m), an object or \"released\"");
+    pose.engaged = false;
+    return pose;
+  }
+  if (f.is_array()) {
+    pose.position_m = f.vec3("m");
+    if (!previous.engaged) pose.rotation = placement.rotation;
+    return pose;
+  }
+  f.only_keys({"position_m", "rotation_deg"});
+  pose.position_m = f["position_m"].vec3("m");
+  pose.rotation = f.has("rotation_deg") ? rotation_from_degrees(f["rotation_deg"].vec3("deg"))
+                                        : placement.rotation;
+  return pose;
+}
+
+void read_stages(const JsonField& f, Scenario& s, const ClampSet& clamps) {
+  std::vector<ClampPose> poses(s.clamps.size());
+  for (ClampPose& p : poses) p.engaged = false;
+  if (f.array_size() == 0) f.fail("must list at least one stage");
+  for (std::size_t i = 0; i < f.array_size(); ++i) {
+    const JsonField st = f[i];
+    st.only_keys({"id", "clamps"});
+    Stage stage;
+    stage.id = st.has("id") ? st["id"].string() : std::to_string(i + 1);
+    const JsonField c = st["clamps"];
+    if (!c.is_object()) c.fail("must be an object {\"clamp id\": pose, ...}");
+    for (const auto& item : c.json().items()) {
+      int index = -1;
+      try {
+        index = clamps.index_of(item.key());
+      } catch (const std::invalid_argument&) {
+        c[item.key()].fail("names no clamp of the 'clamps' list");
+      }
+      poses[index] = read_pose(c[item.key()], poses[index], s.placement);
+    }
+    stage.poses = poses;
+    s.stages.push_back(stage);
+  }
+}
+
+void read_solver(const JsonField& f, ContinuationOptions& o) {
+  f.only_keys({"increment_m", "increment_deg", "residual_tolerance", "max_iterations"});
+  if (auto v = f.optional("increment_m")) o.increment_m = v->positive("m");
+  if (auto v = f.optional("increment_deg")) o.increment_rad = v->positive("deg") * M_PI / 180.0;
+  if (auto v = f.optional("residual_tolerance")) o.newton.residual_tolerance = v->positive("(relative)");
+  if (auto v = f.optional("max_iterations")) o.newton.max_iterations = v->positive_integer();
+}
+
+}  // namespace
+
+Scenario scenario_from_json(const nlohmann::json& j, const std::string& source,
+                            const std::string& base_directory) {
+  const JsonField f(j, source);
+  f.only_keys({"sheet", "material", "material_file", "clamps", "stages", "solver"});
+  Scenario s;
+  s.source = source;
+  read_sheet(f["sheet"], base_directory, s);
+  if (f.has("material") == f.has("material_file")) {
+    f["material"].fail("or 'material_file' must be given, exactly one of them");
+  }
+  if (auto m = f.optional("material")) {
+    s.material = material_from_json(m->json(), source + " (material)");
+  } else {
+    s.material = read_material_file(resolve(base_directory, f["material_file"].string()));
+  }
+  read_clamps(f["clamps"], s);
+  ClampSet clamps;
+  try {
+    clamps = ClampSet(s.mesh, s.clamps);
+  } catch (const std::invalid_argument& e) {
+    f["clamps"].fail(std::string("are not valid: ") + e.what());
+  }
+  read_stages(f["stages"], s, clamps);
+  if (auto solver = f.optional("solver")) read_solver(*solver, s.solver);
+  return s;
+}
+
+Scenario read_scenario_file(const std::string& path) {
+  return scenario_from_json(JsonField::parse_file(path), path,
+                            std::filesystem::path(path).parent_path().string());
+}
+
+}  // namespace twin
