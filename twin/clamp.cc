@@ -5,6 +5,8 @@
 #include <set>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 namespace twin {
 namespace {
 
@@ -23,11 +25,17 @@ bool on_sheet(const SheetMesh& mesh, const Vec2& p) {
   return false;
 }
 
-std::string describe(const Vec2& p) {
-  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ") m";
-}
+std::string describe(const Vec2& p) { return fmt::format("({:.4g}, {:.4g}) m", p.x(), p.y()); }
 
 }  // namespace
+
+ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t) {
+  ClampPose p;
+  p.engaged = b.engaged;
+  p.position_m = (1.0 - t) * a.position_m + t * b.position_m;
+  p.rotation = Eigen::Quaterniond(a.rotation).slerp(t, Eigen::Quaterniond(b.rotation)).toRotationMatrix();
+  return p;
+}
 
 Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
   const std::string who = "clamp '" + spec.id + "'";

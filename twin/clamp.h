@@ -28,6 +28,10 @@ struct ClampPose {
   bool engaged = true;
 };
 
+// Pose a fraction t in [0, 1] of the way from a to b (position linear, rotation slerp); engaged
+// as b is.
+ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t);
+
 class Clamp {
  public:
   // Throws std::invalid_argument naming the clamp if its point is not on the sheet or its

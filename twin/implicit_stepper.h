@@ -17,6 +17,10 @@ struct StepOptions {
   NewtonOptions newton;
   // A step whose velocities exceed this is rejected as a blow-up (m/s).
   double max_speed_m_s = 50.0;
+  // A step that does not converge is retried as 2, 4, ... sub-steps, up to this many. A sheet
+  // in compression can buckle within one step; shorter steps add inertia (m/dt^2) to the
+  // Hessian and make each sub-step well posed again.
+  int max_substeps = 8;
 };
 
 StepOptions default_step_options();
@@ -25,17 +29,25 @@ class ImplicitStepper {
  public:
   explicit ImplicitStepper(const ShellModel& model);
 
-  // Advances positions x and velocities v (3n, m and m/s) by dt (s). On failure both are
-  // unchanged and the report says why.
+  // Advances positions x and velocities v (3n, m and m/s) by dt (s), the clamps moving from
+  // their poses of the previous call (or `poses`, on the first call) to `poses`. On failure x
+  // and v are unchanged and the report says why. The report's iterations and factorizations
+  // add up over sub-steps; `substeps` says how many were needed.
   SolveReport step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
                    const std::vector<ClampPose>& poses,
                    const StepOptions& options = default_step_options());
+  int last_substeps() const { return last_substeps_; }
 
   // Picks up a material change made on the model (viscosity, mass damping, density).
   void sync_material();
 
  private:
+  SolveReport single_step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
+                          const std::vector<ClampPose>& poses, const StepOptions& options);
+
   const ShellModel& model_;
+  std::vector<ClampPose> previous_poses_;
+  int last_substeps_ = 0;
   InertiaTerm inertia_;
   ViscosityTerm viscosity_;
   Objective objective_;

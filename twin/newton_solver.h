@@ -1,23 +1,17 @@
 #pragma once
 // Minimises an Objective over the free vertices by Newton's method with a backtracking line
-// search and a definiteness fix. Used for static equilibrium and for each implicit time step.
+// search. Used for static equilibrium and for each implicit time step.
 //
-// Each iteration assembles the Hessian and factorises it with CHOLMOD; the sparsity pattern and
-// symbolic analysis are cached and reused until the set of fixed vertices changes.
-// Definiteness: far from the solution the Hessian is the per-element positive semi-definite
-// projection (HessianMode::kProjected); once the residual is below `exact_hessian_below` the
-// exact Hessian is used for quadratic convergence. When a factorisation reports "not positive
-// definite", the iteration falls back to the projected Hessian and then to a diagonal shift
-// growing by 100x per try. Any failure restores x to its value on entry.
+// Far from the solution the Hessian is the per-element positive semi-definite projection
+// (HessianMode::kProjected); once the residual is below `exact_hessian_below` the exact Hessian
+// gives quadratic convergence. Linear algebra, the definiteness fix and the reuse of
+// factorisations are in newton_linear_solver.h. Any failure restores x to its value on entry.
 
 #include <functional>
 #include <limits>
-#include <memory>
 
-#include "twin/dof_map.h"
-#include "twin/objective.h"
+#include "twin/newton_linear_solver.h"
 #include "twin/solve_report.h"
-#include "twin/sparse_cholesky.h"
 
 namespace twin {
 
@@ -26,10 +20,11 @@ struct NewtonIteration {
   int iteration = 0;
   double residual = 0.0;
   double energy_J = 0.0;
-  double step_length = 0.0;    // alpha finally taken
-  double largest_move_m = 0.0; // of any vertex in the taken step
+  double step_length = 0.0;     // alpha finally taken
+  double largest_move_m = 0.0;  // of any vertex in the taken step
   bool exact_hessian = false;
-  int factorizations = 0;      // in this iteration
+  int factorizations = 0;       // in this iteration
+  int cg_iterations = 0;        // in this iteration
 };
 
 struct NewtonOptions {
@@ -40,32 +35,25 @@ struct NewtonOptions {
   double armijo = 1e-4;                // sufficient-decrease constant
   int max_halvings = 40;
   double max_extrapolation = 8.0;      // largest multiple of an accepted full step tried
+  LinearSolverOptions linear;
   std::function<void(const NewtonIteration&)> on_iteration;  // optional progress callback
 };
 
 class NewtonSolver {
  public:
-  NewtonSolver();
-  ~NewtonSolver();
-
   // x: on entry the start (fixed vertices already at their targets); on success the minimiser.
   // force_scale_N sets the residual's unit (for example the sheet's weight on the free
-  // vertices). Never throws for numerical trouble; reads the report instead.
+  // vertices). Never throws for numerical trouble; read the report instead.
   SolveReport minimize(const Objective& objective, const DofMap& dofs, double force_scale_N,
                        VecX& x, const NewtonOptions& options);
+  // Drops the reusable factorisation (after a material change, say).
+  void invalidate_factorization() { linear_.invalidate(); }
 
  private:
-  void prepare(const Objective& objective, const DofMap& dofs);
-
-  std::vector<const EnergyTerm*> cached_terms_;
-  std::vector<char> cached_fixed_;
-  std::unique_ptr<HessianPattern> pattern_;
-  SparseCholesky cholesky_;
+  NewtonLinearSolver linear_;
 };
 
 // Free part of a full 3n vector, in free-DOF order.
 VecX gather_free(const DofMap& dofs, const VecX& full);
-// ||free part of grad|| (N).
-double free_norm(const DofMap& dofs, const VecX& full);
 
 }  // namespace twin

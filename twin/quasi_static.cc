@@ -20,14 +20,6 @@ std::string ContinuationReport::brief() const {
                      newton_iterations, factorizations, 1e3 * seconds);
 }
 
-ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t) {
-  ClampPose p;
-  p.engaged = b.engaged;
-  p.position_m = (1.0 - t) * a.position_m + t * b.position_m;
-  p.rotation = Eigen::Quaterniond(a.rotation).slerp(t, Eigen::Quaterniond(b.rotation)).toRotationMatrix();
-  return p;
-}
-
 QuasiStaticSolver::QuasiStaticSolver(const ShellModel& model, const ClampSet& clamps)
     : model_(model), clamps_(clamps), statics_(model) {}
 

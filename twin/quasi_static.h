@@ -49,7 +49,4 @@ class QuasiStaticSolver {
   StaticSolver statics_;
 };
 
-// Pose a fraction t in [0, 1] of the way from a to b (position linear, rotation slerp).
-ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t);
-
 }  // namespace twin
