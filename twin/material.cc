@@ -109,7 +109,10 @@ Material material_from_json(const json& j, const std::string& source) {
   std::tie(m.tensile_stiffness_u_N_m, m.tensile_stiffness_v_N_m) =
       directional(f["tensile_stiffness_N_m"], "N/m");
   m.shear_stiffness_N_m = f["shear_stiffness_N_m"].number("N/m");
-  if (auto nu = f.optional("poisson_ratio")) m.poisson_ratio = nu->number("(dimensionless)");
+  if (auto nu = f.optional("poisson_ratio")) {
+    m.poisson_ratio = nu->number("(dimensionless)");
+    if (!(m.poisson_ratio >= 0.0 && m.poisson_ratio < 1.0)) nu->fail("must be in [0, 1)");
+  }
   if (auto t = f.optional("thickness_m")) m.thickness_m = t->positive("m");
   const bool rigidity = f.has("bending_rigidity_Nm");
   const bool modulus = f.has("bending_modulus_Pa");
