@@ -10,9 +10,12 @@
 // with Abar_e a third of the rest area of the hinge's two triangles and n the unit normal of the
 // edge in material coordinates, and solve for (a, b) per mesh so that cylinders along u and v
 // store exactly D_u/2 kappa^2 and D_v/2 kappa^2 per unit of the hinges' area sum(Abar_e).
-// On the offset-row mesh other directions then match D within a few percent (tested); bending
-// with curvature in two directions behaves as a plate with Poisson ratio about 1/3 (a property
-// of hinge bending on near-equilateral triangles, not of the material).
+// On the offset-row mesh other directions then match D within a few percent (tested).
+// Bending with curvature in two directions at once behaves as a plate with Poisson ratio about
+// -1/3 whatever the material's: on equilateral triangles a hinge sees kappa_nn - kappa_tt / 3,
+// so a sphere costs less than two cylinders and a bent strip curls its edges the same way
+// (synclastic) instead of into a saddle. Beam-like bending depends on nu^2 only and is
+// unaffected (cantilever test); doubly curved shapes are not.
 
 #include <vector>
 

@@ -10,19 +10,22 @@
 namespace twin {
 namespace {
 
-bool on_sheet(const SheetMesh& mesh, const Vec2& p) {
+// Barycentric coordinates of p in the rest triangle t.
+Vec3 barycentric(const SheetMesh& mesh, int t, const Vec2& p) {
+  const auto& tri = mesh.triangles[t];
+  Mat2 edges;
+  edges.col(0) = mesh.rest_uv[tri[1]] - mesh.rest_uv[tri[0]];
+  edges.col(1) = mesh.rest_uv[tri[2]] - mesh.rest_uv[tri[0]];
+  const Vec2 bc = edges.inverse() * (p - mesh.rest_uv[tri[0]]);
+  return Vec3(1.0 - bc.sum(), bc.x(), bc.y());
+}
+
+// The triangle containing p (with a tolerance for points on edges), or -1.
+int host_triangle(const SheetMesh& mesh, const Vec2& p) {
   for (int t = 0; t < mesh.triangle_count(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    const Vec2 a = mesh.rest_uv[tri[0]], b = mesh.rest_uv[tri[1]], c = mesh.rest_uv[tri[2]];
-    const double tolerance = 1e-9 * ((b - a).norm() + (c - a).norm());
-    auto side = [](const Vec2& o, const Vec2& d, const Vec2& q) {
-      return (d - o).x() * (q - o).y() - (d - o).y() * (q - o).x();
-    };
-    if (side(a, b, p) >= -tolerance && side(b, c, p) >= -tolerance && side(c, a, p) >= -tolerance) {
-      return true;
-    }
+    if (barycentric(mesh, t, p).minCoeff() >= -1e-9) return t;
   }
-  return false;
+  return -1;
 }
 
 std::string describe(const Vec2& p) { return fmt::format("({:.4g}, {:.4g}) m", p.x(), p.y()); }
@@ -39,7 +42,8 @@ ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t) {
 
 Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
   const std::string who = "clamp '" + spec.id + "'";
-  if (!spec.material_point_m.allFinite() || !on_sheet(mesh, spec.material_point_m)) {
+  const int host = spec.material_point_m.allFinite() ? host_triangle(mesh, spec.material_point_m) : -1;
+  if (host < 0) {
     throw std::invalid_argument(who + ": material point " + describe(spec.material_point_m) +
                                 " is not on the sheet");
   }
@@ -57,6 +61,8 @@ Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
     }
   }
   if (vertices_.empty()) vertices_.push_back(nearest);
+  host_triangle_ = mesh.triangles[host];
+  host_weights_ = barycentric(mesh, host, spec.material_point_m);
   for (int v : vertices_) offsets_m_.push_back(mesh.rest_uv[v] - spec.material_point_m);
 }
 
@@ -64,6 +70,12 @@ void Clamp::hold(const ClampPose& pose, VecX& x) const {
   for (std::size_t k = 0; k < vertices_.size(); ++k) {
     x.segment<3>(3 * vertices_[k]) = pose.position_m + pose.rotation.leftCols<2>() * offsets_m_[k];
   }
+}
+
+Vec3 Clamp::material_point_position(const VecX& x) const {
+  Vec3 p = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) p += host_weights_(k) * x.segment<3>(3 * host_triangle_[k]);
+  return p;
 }
 
 ClampSet::ClampSet(const SheetMesh& mesh, const std::vector<ClampSpec>& specs) {

@@ -8,6 +8,7 @@
 // position (m) and R its orientation (columns: world directions of the material u, v and the
 // sheet normal at the clamp). A released clamp holds nothing. Poses may change every step.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -41,11 +42,16 @@ class Clamp {
   const std::vector<int>& vertices() const { return vertices_; }
   // Writes the held positions of the gripped vertices into x (3n).
   void hold(const ClampPose& pose, VecX& x) const;
+  // Where the clamp's material point is in the sheet at positions x (m): where the clamp grips
+  // when it closes on the sheet as it is.
+  Vec3 material_point_position(const VecX& x) const;
 
  private:
   ClampSpec spec_;
   std::vector<int> vertices_;
   std::vector<Vec2> offsets_m_;  // u_i - u_c
+  std::array<int, 3> host_triangle_{};  // rest triangle holding the material point
+  Vec3 host_weights_ = Vec3::Zero();     // its barycentric coordinates there
 };
 
 class ClampSet {

@@ -39,7 +39,17 @@ void ImplicitStepper::sync_material() {
 SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
                                   const std::vector<ClampPose>& poses,
                                   const StepOptions& options) {
-  if (previous_poses_.size() != poses.size()) previous_poses_ = poses;
+  // Sub-steps move each clamp from where it was to `poses`. A clamp that was not holding (or
+  // the first call) starts from where its material point is now, with the target orientation.
+  std::vector<ClampPose> start = previous_poses_;
+  start.resize(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (i >= previous_poses_.size() || !previous_poses_[i].engaged) {
+      start[i].position_m = clamps[static_cast<int>(i)].material_point_position(x);
+      start[i].rotation = poses[i].rotation;
+      start[i].engaged = true;
+    }
+  }
   SolveReport total;
   for (int substeps = 1; substeps <= std::max(1, options.max_substeps); substeps *= 2) {
     VecX xs = x, vs = v;
@@ -47,7 +57,7 @@ SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet&
     for (int k = 1; k <= substeps; ++k) {
       std::vector<ClampPose> at(poses.size());
       for (std::size_t i = 0; i < poses.size(); ++i) {
-        at[i] = interpolate(previous_poses_[i], poses[i], static_cast<double>(k) / substeps);
+        at[i] = interpolate(start[i], poses[i], static_cast<double>(k) / substeps);
       }
       report = single_step(xs, vs, dt_s / substeps, clamps, at, options);
       total.iterations += report.iterations;

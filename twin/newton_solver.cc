@@ -50,6 +50,8 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
   };
 
   double energy = energy_at(x, &grad);
+  double best_residual = std::numeric_limits<double>::infinity();
+  int stalled = 0;
   for (report.iterations = 0;; ++report.iterations) {
     const VecX g = gather_free(dofs, grad);
     report.energy_J = energy;
@@ -73,13 +75,26 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
     if (!solved) return finish(SolveStatus::kIndefinite, "");
     const double slope = g.dot(step);  // J, negative for a descent direction
     if (!(slope < 0.0)) return finish(SolveStatus::kLineSearchFailed, "not a descent direction");
+    // Energy differences below this are rounding noise of the total energy.
+    const double noise = 1e-13 * std::max(1.0, std::abs(energy));
+    // A stiff membrane leaves force noise of about Y * 1e-17 / h per vertex from rounded
+    // positions. Once the energy no longer resolves a Newton step and three such steps in a row
+    // have not halved the best residual, what is left is that noise: converged as far as
+    // doubles allow.
+    if (-slope < noise && report.residual > 0.5 * best_residual) {
+      if (++stalled >= 3 && report.residual < options.round_off_residual) {
+        return finish(SolveStatus::kConverged,
+                      fmt::format("at the round-off floor (residual {:.2e})", report.residual));
+      }
+    } else {
+      stalled = 0;
+    }
+    best_residual = std::min(best_residual, report.residual);
 
     // Cap the largest vertex move, then backtrack until the energy decreases enough.
     double largest = 0.0;
     for (int f = 0; f < dofs.free_vertex_count(); ++f) largest = std::max(largest, step.segment<3>(3 * f).norm());
     double alpha = largest > options.max_step_m ? options.max_step_m / largest : 1.0;
-    // Energy differences below this are rounding noise of the total energy.
-    const double noise = 1e-13 * std::max(1.0, std::abs(energy));
     move(alpha, trial);
     VecX trial_grad(x.size());
     double trial_energy = energy_at(trial, &trial_grad);

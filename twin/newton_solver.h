@@ -30,6 +30,9 @@ struct NewtonIteration {
 struct NewtonOptions {
   int max_iterations = 200;
   double residual_tolerance = 1e-8;    // ||free force|| / force scale
+  // A residual above the tolerance but below this counts as converged when the Newton step's
+  // predicted energy change is below the energy's rounding noise (see newton_solver.cc).
+  double round_off_residual = 1e-3;
   double exact_hessian_below = 1e-3;   // residual under which the exact Hessian is used
   double max_step_m = std::numeric_limits<double>::infinity();  // cap on a vertex's move per step
   double armijo = 1e-4;                // sufficient-decrease constant

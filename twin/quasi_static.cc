@@ -23,30 +23,6 @@ std::string ContinuationReport::brief() const {
 QuasiStaticSolver::QuasiStaticSolver(const ShellModel& model, const ClampSet& clamps)
     : model_(model), clamps_(clamps), statics_(model) {}
 
-Vec3 QuasiStaticSolver::material_point_position(const Vec2& uv, const VecX& x) const {
-  const SheetMesh& mesh = model_.mesh();
-  int best = 0;
-  double best_outside = 1e300;
-  Vec3 best_weights(1.0, 0.0, 0.0);
-  for (int t = 0; t < mesh.triangle_count(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    Mat2 edges;
-    edges.col(0) = mesh.rest_uv[tri[1]] - mesh.rest_uv[tri[0]];
-    edges.col(1) = mesh.rest_uv[tri[2]] - mesh.rest_uv[tri[0]];
-    const Vec2 bc = edges.inverse() * (uv - mesh.rest_uv[tri[0]]);
-    const Vec3 w(1.0 - bc.sum(), bc.x(), bc.y());
-    const double outside = -std::min(0.0, w.minCoeff());
-    if (outside < best_outside) {
-      best_outside = outside;
-      best = t;
-      best_weights = w;
-    }
-  }
-  const auto& tri = mesh.triangles[best];
-  return best_weights(0) * x.segment<3>(3 * tri[0]) + best_weights(1) * x.segment<3>(3 * tri[1]) +
-         best_weights(2) * x.segment<3>(3 * tri[2]);
-}
-
 ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
                                            const std::vector<ClampPose>& to, VecX& x,
                                            const ContinuationOptions& options) {
@@ -81,7 +57,7 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
   for (std::size_t i = 0; i < to.size(); ++i) {
     if (to[i].engaged && !current[i].engaged) {
       current[i].engaged = true;
-      current[i].position_m = material_point_position(clamps_[i].spec().material_point_m, x);
+      current[i].position_m = clamps_[i].material_point_position(x);
       current[i].rotation = to[i].rotation;
     }
   }

@@ -39,10 +39,6 @@ class QuasiStaticSolver {
   ContinuationReport move(const std::vector<ClampPose>& from, const std::vector<ClampPose>& to,
                           VecX& x, const ContinuationOptions& options = {});
 
-  // World position of a material point (barycentric in the rest triangle that contains it),
-  // for gripping the sheet where it is.
-  Vec3 material_point_position(const Vec2& uv, const VecX& x) const;
-
  private:
   const ShellModel& model_;
   const ClampSet& clamps_;
