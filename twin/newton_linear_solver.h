@@ -22,7 +22,7 @@
 namespace twin {
 
 struct LinearSolverOptions {
-  bool reuse_factorization = true;
+  bool reuse_factorization = false;
   int max_cg_iterations = 30;
   double cg_tolerance = 1e-2;  // relative residual of the linear system (the caller may lower it)
 };

@@ -49,6 +49,13 @@ class NewtonSolver {
   // vertices). Never throws for numerical trouble; read the report instead.
   SolveReport minimize(const Objective& objective, const DofMap& dofs, double force_scale_N,
                        VecX& x, const NewtonOptions& options);
+  // First-order continuation predictor. x_old is an equilibrium; x_moved equals x_old except
+  // that the vertices fixed in `dofs` have been moved to new held positions. Returns x_moved
+  // with the free vertices moved by the linear response  K_ff dx_f = -K_fc dx_c  (K the Hessian
+  // at x_old; K_fc dx_c by a directional finite difference of the forces), which is where the
+  // new equilibrium is to first order. Returns x_moved unchanged if the system cannot be solved.
+  VecX tangent_predictor(const Objective& objective, const DofMap& dofs, const VecX& x_old,
+                         const VecX& x_moved);
   // Drops the reusable factorisation (after a material change, say).
   void invalidate_factorization() { linear_.invalidate(); }
 

@@ -29,8 +29,12 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
   const auto start = std::chrono::steady_clock::now();
   ContinuationReport report;
   const VecX x_entry = x;
+  // Increments after the first start from an equilibrium and can use the tangent predictor.
+  bool at_equilibrium = false;
   auto solve = [&](const std::vector<ClampPose>& poses) {
-    report.last = statics_.solve(clamps_, poses, x, options.newton);
+    report.last = at_equilibrium ? statics_.solve_from_equilibrium(clamps_, poses, x, options.newton)
+                                 : statics_.solve(clamps_, poses, x, options.newton);
+    at_equilibrium = report.last.usable();
     report.newton_iterations += report.last.iterations;
     report.factorizations += report.last.factorizations;
     if (report.last.usable()) ++report.increments;
@@ -52,6 +56,8 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
     }
   }
   if (released && !solve(current)) return done(false);
+  // A grip or a release changes which vertices are free; the predictor needs the same set.
+  at_equilibrium = false;
 
   // 2. Grips: a newly engaged clamp starts where its material point is now.
   for (std::size_t i = 0; i < to.size(); ++i) {

@@ -26,6 +26,12 @@ class StaticSolver {
   SolveReport solve(const ClampSet& clamps, const std::vector<ClampPose>& poses, VecX& x,
                     const NewtonOptions& options = default_static_options());
 
+  // As solve(), for x an equilibrium whose clamps have just moved to `poses` (same clamps
+  // engaged): starts Newton from the first-order predicted equilibrium instead of from x with
+  // only the gripped patches moved, which would tear the sheet locally around each clamp.
+  SolveReport solve_from_equilibrium(const ClampSet& clamps, const std::vector<ClampPose>& poses,
+                                     VecX& x, const NewtonOptions& options = default_static_options());
+
  private:
   const ShellModel& model_;
   Objective objective_;
