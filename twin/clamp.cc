@@ -5,6 +5,7 @@
 #include <set>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 namespace twin {
@@ -63,6 +64,13 @@ Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
   if (vertices_.empty()) vertices_.push_back(nearest);
   host_triangle_ = mesh.triangles[host];
   host_weights_ = barycentric(mesh, host, spec.material_point_m);
+  Mat2 edges;
+  edges.col(0) = mesh.rest_uv[host_triangle_[1]] - mesh.rest_uv[host_triangle_[0]];
+  edges.col(1) = mesh.rest_uv[host_triangle_[2]] - mesh.rest_uv[host_triangle_[0]];
+  const Mat2 inv = edges.inverse();
+  host_gradients_.row(1) = inv.row(0);
+  host_gradients_.row(2) = inv.row(1);
+  host_gradients_.row(0) = -inv.row(0) - inv.row(1);
   for (int v : vertices_) offsets_m_.push_back(mesh.rest_uv[v] - spec.material_point_m);
 }
 
@@ -76,6 +84,22 @@ Vec3 Clamp::material_point_position(const VecX& x) const {
   Vec3 p = Vec3::Zero();
   for (int k = 0; k < 3; ++k) p += host_weights_(k) * x.segment<3>(3 * host_triangle_[k]);
   return p;
+}
+
+Mat3 Clamp::material_frame(const VecX& x) const {
+  Eigen::Matrix<double, 3, 2> f = Eigen::Matrix<double, 3, 2>::Zero();  // (U V), paper Eq. 1
+  for (int k = 0; k < 3; ++k) f += x.segment<3>(3 * host_triangle_[k]) * host_gradients_.row(k);
+  // Polar decomposition F = R S: R = F (F^T F)^(-1/2), the rotation without the stretch.
+  Eigen::SelfAdjointEigenSolver<Mat2> eig(f.transpose() * f);
+  const Mat2 inverse_root = eig.eigenvectors() *
+                            eig.eigenvalues().cwiseMax(1e-30).cwiseSqrt().cwiseInverse().asDiagonal() *
+                            eig.eigenvectors().transpose();
+  const Eigen::Matrix<double, 3, 2> r = f * inverse_root;
+  Mat3 frame;
+  frame.col(0) = r.col(0);
+  frame.col(1) = r.col(1);
+  frame.col(2) = r.col(0).cross(r.col(1)).normalized();
+  return frame;
 }
 
 ClampSet::ClampSet(const SheetMesh& mesh, const std::vector<ClampSpec>& specs) {

@@ -45,6 +45,10 @@ class Clamp {
   // Where the clamp's material point is in the sheet at positions x (m): where the clamp grips
   // when it closes on the sheet as it is.
   Vec3 material_point_position(const VecX& x) const;
+  // Orientation of the material there (columns: world directions of u, v and the normal, from
+  // the polar decomposition of the host triangle's deformation): how a clamp closing on the
+  // sheet as it is finds the patch turned.
+  Mat3 material_frame(const VecX& x) const;
 
  private:
   ClampSpec spec_;
@@ -52,6 +56,7 @@ class Clamp {
   std::vector<Vec2> offsets_m_;  // u_i - u_c
   std::array<int, 3> host_triangle_{};  // rest triangle holding the material point
   Vec3 host_weights_ = Vec3::Zero();     // its barycentric coordinates there
+  Eigen::Matrix<double, 3, 2> host_gradients_ = Eigen::Matrix<double, 3, 2>::Zero();  // 1/m
 };
 
 class ClampSet {

@@ -1,7 +1,8 @@
 #pragma once
 // Groups elements into colours so that no two elements of a colour share a vertex; a parallel
 // loop over one colour can then add into per-vertex gradient and Hessian entries without races
-// or atomics, and results do not depend on the thread count's scheduling.
+// or atomics. (Energies are summed by an OpenMP reduction whose order depends on the thread
+// count, so results can differ in the last bits between thread counts.)
 
 #include <vector>
 

@@ -116,6 +116,23 @@ SheetMesh sheet_mesh_from_flat(const SurfaceMesh& mesh, double flatness_toleranc
       mesh.uv.empty() ? project_onto_best_fit_plane(mesh.positions, flatness_tolerance_m) : mesh.uv;
   orient_counter_clockwise(sheet);
   validate_sheet_mesh(sheet);
+  if (!mesh.uv.empty()) {
+    // Material coordinates are metres. Exporters usually write texture coordinates in [0, 1],
+    // which would silently pre-stress the sheet: the uv area must be the surface area, within
+    // 10 % so that a deformed result of the twin (which carries u v) still reads back.
+    double surface = 0.0;
+    for (const auto& t : mesh.triangles) {
+      surface += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]])
+                           .cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+    }
+    const double material = sheet.total_rest_area();
+    if (std::abs(material - surface) > 0.1 * surface) {
+      throw std::invalid_argument(
+          "sheet_mesh_from_flat: the texture coordinates span " + short_number(material) +
+          " m^2 but the surface " + short_number(surface) +
+          " m^2; material coordinates (u v / vt) must be in metres on the undeformed sheet");
+    }
+  }
   return sheet;
 }
 

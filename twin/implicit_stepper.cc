@@ -25,18 +25,26 @@ StepOptions default_step_options() {
   return options;
 }
 
+StepOptions linearized_step_options() {
+  StepOptions options = default_step_options();
+  options.newton.max_iterations = 1;
+  options.newton.accept_iteration_budget = true;
+  options.newton.exact_hessian_below = 0.0;  // one step: the projected Hessian is the safe one
+  return options;
+}
+
 ImplicitStepper::ImplicitStepper(const ShellModel& model)
     : model_(model),
       inertia_(model.vertex_masses_kg(), model.material().mass_damping_1_s),
       viscosity_(model.membrane().elements(), model.vertex_count(),
-                 model.material().tensile_viscosity_Ns_m, model.material().shear_viscosity_Ns_m),
-      objective_({&model.membrane(), &model.bending(), &model.gravity(), &inertia_, &viscosity_}) {}
+                 model.material().tensile_viscosity_Ns_m, model.material().shear_viscosity_Ns_m) {}
 
 void ImplicitStepper::sync_material() {
   inertia_.set_masses(model_.vertex_masses_kg());
   inertia_.set_mass_damping(model_.material().mass_damping_1_s);
   viscosity_.set_viscosity(model_.material().tensile_viscosity_Ns_m,
                            model_.material().shear_viscosity_Ns_m);
+  newton_.invalidate_factorization();
 }
 
 SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
@@ -49,7 +57,7 @@ SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet&
   for (std::size_t i = 0; i < poses.size(); ++i) {
     if (i >= previous_poses_.size() || !previous_poses_[i].engaged) {
       start[i].position_m = clamps[static_cast<int>(i)].material_point_position(x);
-      start[i].rotation = poses[i].rotation;
+      start[i].rotation = clamps[static_cast<int>(i)].material_frame(x);
       start[i].engaged = true;
     }
   }
@@ -92,8 +100,11 @@ SolveReport ImplicitStepper::single_step(VecX& x, VecX& v, double dt_s, const Cl
   // Start from the inertial prediction; clamped vertices go to their poses.
   VecX next = x + dt_s * v;
   clamps.hold(poses, next);
+  // Viscosity joins only when the material has some: its element loop is not free.
+  std::vector<const EnergyTerm*> terms = {&model_.membrane(), &model_.bending(), &model_.gravity(), &inertia_};
+  if (viscosity_.active()) terms.push_back(&viscosity_);
   SolveReport report =
-      newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), next, options.newton);
+      newton_.minimize(Objective(terms), dofs, free_weight_N(model_, dofs), next, options.newton);
   if (!report.usable()) return report;
   VecX velocity = (next - x) / dt_s;
   double top_speed = 0.0;

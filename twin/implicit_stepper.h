@@ -23,14 +23,21 @@ struct StepOptions {
   int max_substeps = 8;
 };
 
+// Backward Euler solved to convergence (residual 1e-5 of the weight) in every step.
 StepOptions default_step_options();
+// Linearised backward Euler: one Newton iteration per step (Baraff and Witkin 1998; what
+// VegaFEM's implicit integrator does by default, the paper's engine). The step is accepted when
+// it lowered the incremental potential with finite forces and speeds; it is first-order
+// accurate like the converged step but not its exact solution.
+StepOptions linearized_step_options();
 
 class ImplicitStepper {
  public:
   explicit ImplicitStepper(const ShellModel& model);
 
   // Advances positions x and velocities v (3n, m and m/s) by dt (s), the clamps moving from
-  // their poses of the previous call (or `poses`, on the first call) to `poses`. On failure x
+  // their poses of the previous call to `poses`; a clamp that was not holding (or on the first
+  // call) moves from where and how its material point is in x. On failure x
   // and v are unchanged and the report says why. The report's iterations and factorizations
   // add up over sub-steps; `substeps` says how many were needed.
   SolveReport step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
@@ -50,7 +57,6 @@ class ImplicitStepper {
   int last_substeps_ = 0;
   InertiaTerm inertia_;
   ViscosityTerm viscosity_;
-  Objective objective_;
   NewtonSolver newton_;
 };
 

@@ -35,6 +35,10 @@ void JsonField::fail(const std::string& what) const {
                               " " + what);
 }
 
+void JsonField::fail_child(const std::string& key, const std::string& what) const {
+  JsonField(*value_, source_, path_.empty() ? key : path_ + "." + key).fail(what);
+}
+
 bool JsonField::has(const std::string& key) const {
   return value_->is_object() && value_->contains(key);
 }
@@ -100,11 +104,6 @@ int JsonField::positive_integer() const {
     fail("must be a positive integer");
   }
   return static_cast<int>(value_->get<long long>());
-}
-
-bool JsonField::boolean() const {
-  if (!value_->is_boolean()) fail("must be true or false");
-  return value_->get<bool>();
 }
 
 std::string JsonField::string() const {

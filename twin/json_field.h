@@ -37,7 +37,6 @@ class JsonField {
   double positive(const char* unit) const;
   double non_negative(const char* unit) const;
   int positive_integer() const;
-  bool boolean() const;
   std::string string() const;
   bool is_string() const { return value_->is_string(); }
   bool is_object() const { return value_->is_object(); }
@@ -46,6 +45,8 @@ class JsonField {
   Vec3 vec3(const char* unit) const;  // [a, b, c]
 
   [[noreturn]] void fail(const std::string& what) const;
+  // Fails naming the child `key` (which need not exist): "field 'parent.key' <what>".
+  [[noreturn]] void fail_child(const std::string& key, const std::string& what) const;
 
  private:
   const nlohmann::json* value_;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "twin/atomic_file.h"
 #include "twin/json_field.h"
 
 namespace twin {
@@ -117,8 +118,8 @@ Material material_from_json(const json& j, const std::string& source) {
   const bool rigidity = f.has("bending_rigidity_Nm");
   const bool modulus = f.has("bending_modulus_Pa");
   if (rigidity == modulus) {
-    fail(source, "bending_rigidity_Nm",
-         "or 'bending_modulus_Pa' (with 'thickness_m') must be given, exactly one of them");
+    f.fail_child("bending_rigidity_Nm",
+                 "or 'bending_modulus_Pa' (with 'thickness_m') must be given, exactly one of them");
   }
   if (auto given = f.optional("bending_given_as")) {
     const std::string expected = rigidity ? "rigidity" : "modulus";
@@ -133,7 +134,7 @@ Material material_from_json(const json& j, const std::string& source) {
     const JsonField field = f["bending_modulus_Pa"];
     auto [eu, ev] = directional(field, "N/m^2");
     if (!(eu > 0.0 && ev > 0.0)) field.fail("must be positive (N/m^2)");
-    if (!m.thickness_m) f["thickness_m"].fail("is needed to convert bending_modulus_Pa");
+    if (!m.thickness_m) f.fail_child("thickness_m", "is needed to convert bending_modulus_Pa");
     m.bending_modulus_u_Pa = eu;
     m.bending_modulus_v_Pa = ev;
     m.bending_rigidity_u_Nm = bending_rigidity_from_modulus(eu, *m.thickness_m, m.poisson_ratio);
@@ -179,14 +180,7 @@ Material read_material_file(const std::string& path) {
 }
 
 void write_material_file(const std::string& path, const Material& m) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write material file");
-    out << material_to_json(m).dump(2) << "\n";
-    if (!out.flush()) throw std::runtime_error(path + ": write failed");
-  }
-  std::filesystem::rename(tmp, path);
+  write_file_atomically(path, [&](std::ostream& out) { out << material_to_json(m).dump(2) << "\n"; });
 }
 
 }  // namespace twin

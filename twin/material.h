@@ -10,7 +10,8 @@
 //   C' = diag(eta_t, eta_t, eta_s)          (N*s/m), the strain-rate viscosity.
 // Bending: plate rigidity D (N*m) for curvature along u and along v; an isotropic sheet has
 // D_u = D_v. When a bending modulus E_b (N/m^2, as the paper quotes for the composite) is given
-// instead, D = E_b t^3 / (12 (1 - nu^2)) with thickness t (m) and Poisson ratio nu.
+// instead, D = E_b t^3 / (12 (1 - nu^2)) with thickness t (m) and the given Poisson ratio nu
+// (nu_uv; for an orthotropic membrane the bending conversion still uses this one value).
 
 #include <optional>
 #include <string>

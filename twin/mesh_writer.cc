@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "twin/atomic_file.h"
+
 namespace twin {
 namespace {
 
@@ -50,38 +52,6 @@ void check_for_writing(const fs::path& path, const SurfaceMesh& mesh,
   }
 }
 
-// Writes to "<path>.tmp" and renames over `path`, so readers never see a partial file.
-void write_atomically(const fs::path& path, const std::function<void(std::ostream&)>& body) {
-  fs::path tmp = path;
-  tmp += ".tmp";
-  std::error_code ignored;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path.string() + ": cannot open " + tmp.string());
-    out.imbue(std::locale::classic());
-    out << std::setprecision(std::numeric_limits<double>::max_digits10);
-    try {
-      body(out);
-    } catch (...) {
-      out.close();
-      fs::remove(tmp, ignored);
-      throw;
-    }
-    out.close();
-    if (!out) {
-      fs::remove(tmp, ignored);
-      throw std::runtime_error(path.string() + ": writing " + tmp.string() + " failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(path.string() + ": cannot rename " + tmp.string() + ": " +
-                             ec.message());
-  }
-}
-
 template <class T>
 void put_little_endian(std::ostream& out, T value) {
   char b[sizeof(T)];
@@ -96,7 +66,7 @@ void write_ply(const fs::path& path, const SurfaceMesh& mesh,
                const std::vector<VertexScalar>& scalars, bool binary) {
   check_for_writing(path, mesh, scalars);
   const bool has_uv = !mesh.uv.empty();
-  write_atomically(path, [&](std::ostream& out) {
+  write_file_atomically(path, [&](std::ostream& out) {
     out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
         << "element vertex " << mesh.positions.size() << "\n"
         << "property double x\nproperty double y\nproperty double z\n";
@@ -128,7 +98,7 @@ void write_ply(const fs::path& path, const SurfaceMesh& mesh,
 
 void write_obj(const fs::path& path, const SurfaceMesh& mesh) {
   check_for_writing(path, mesh, {});
-  write_atomically(path, [&](std::ostream& out) {
+  write_file_atomically(path, [&](std::ostream& out) {
     for (const Vec3& p : mesh.positions)
       out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
     for (const Vec2& t : mesh.uv) out << "vt " << t.x() << ' ' << t.y() << '\n';

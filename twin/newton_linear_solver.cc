@@ -77,7 +77,9 @@ bool NewtonLinearSolver::solve(const Objective& objective, const VecX& x, const 
     int iterations = 0;
     const bool ok = preconditioned_cg(-g_free, tolerance, options.max_cg_iterations, step, iterations);
     stats.cg_iterations += iterations;
-    if (ok && step.allFinite()) return true;
+    // On an indefinite H, CG can converge without meeting negative curvature and still return
+    // an ascent direction; only a descent direction is taken from it.
+    if (ok && step.allFinite() && step.dot(g_free) < 0.0) return true;
   }
   factor_valid_ = factorize_current(objective, x, mode, stats);
   stats.mode_used = mode;

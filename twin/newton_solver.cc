@@ -53,7 +53,7 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
     report.status = status;
     report.message = std::move(message);
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (status != SolveStatus::kConverged) x = x_entry;
+    if (status != SolveStatus::kConverged && status != SolveStatus::kIterationBudget) x = x_entry;
     return report;
   };
   if (dofs.free_vertex_count() == 0) {
@@ -89,6 +89,9 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
     }
     if (report.residual < options.residual_tolerance) return finish(SolveStatus::kConverged, "");
     if (report.iterations >= options.max_iterations) {
+      if (options.accept_iteration_budget && report.iterations > 0) {
+        return finish(SolveStatus::kIterationBudget, "");
+      }
       return finish(SolveStatus::kMaxIterations,
                     fmt::format("residual {:.2e} > {:.2e}", report.residual, options.residual_tolerance));
     }

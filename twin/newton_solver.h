@@ -38,6 +38,9 @@ struct NewtonOptions {
   double armijo = 1e-4;                // sufficient-decrease constant
   int max_halvings = 40;
   double max_extrapolation = 8.0;      // largest multiple of an accepted full step tried
+  // Fixed-budget mode: reaching max_iterations with every step having lowered the objective is
+  // a usable result (SolveStatus::kIterationBudget), as in a linearised implicit step.
+  bool accept_iteration_budget = false;
   LinearSolverOptions linear;
   std::function<void(const NewtonIteration&)> on_iteration;  // optional progress callback
 };

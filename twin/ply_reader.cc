@@ -195,10 +195,38 @@ SurfaceMesh read_ply_body(Source& src, const PlyHeader& h, const PlyLayout& layo
 
 }  // namespace
 
+namespace {
+
+// Counts in a header are not to be trusted before allocating for them: every element of an
+// element type with properties takes at least 2 bytes in ASCII ("0\n") and at least the size
+// of its scalar properties (and list counts) in binary. A body far too short for the counts is
+// rejected here; a slightly short one (a truncated file) fails while reading, naming the element.
+void check_counts_fit(const fs::path& path, const PlyHeader& header, std::size_t body_bytes) {
+  double least = 0.0;
+  for (const PlyElement& element : header.elements) {
+    if (element.properties.empty() && element.count > 0) {
+      throw std::runtime_error(path.string() + ":" + std::to_string(element.line) + ": element '" +
+                               element.name + "' has a count but no properties");
+    }
+    double bytes = 0.0;
+    for (const PlyProperty& p : element.properties) {
+      bytes += static_cast<double>(byte_size(p.is_list ? p.count_type : p.type));
+    }
+    least += static_cast<double>(element.count) * (header.format == PlyFormat::kAscii ? 2.0 : bytes);
+  }
+  if (least > 2.0 * static_cast<double>(body_bytes) + 1024.0) {
+    throw std::runtime_error(path.string() + ": the header declares more elements than the " +
+                             std::to_string(body_bytes) + "-byte body can hold (truncated file?)");
+  }
+}
+
+}  // namespace
+
 SurfaceMesh read_ply(const fs::path& path, std::string_view text) {
   const PlyHeader header = parse_ply_header(path, text);
   const PlyLayout layout = ply_layout(path, header);
   const std::string_view body = text.substr(header.body_offset);
+  check_counts_fit(path, header, body.size());
   if (header.format == PlyFormat::kAscii) {
     AsciiSource src(path, body, header.header_lines);
     return read_ply_body(src, header, layout);

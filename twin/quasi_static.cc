@@ -64,7 +64,7 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
     if (to[i].engaged && !current[i].engaged) {
       current[i].engaged = true;
       current[i].position_m = clamps_[i].material_point_position(x);
-      current[i].rotation = to[i].rotation;
+      current[i].rotation = clamps_[i].material_frame(x);
     }
   }
 
@@ -90,7 +90,8 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
     if (solve(poses)) {
       done_fraction = next;
     } else {
-      x = before;
+      x = before;            // back at the last equilibrium: the predictor applies again
+      at_equilibrium = true;
       steps *= 2;
       if (steps > max_steps) return done(false);
     }

@@ -1,5 +1,6 @@
 #include "twin/scenario.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -36,7 +37,7 @@ void read_sheet(const JsonField& f, const std::string& base, Scenario& s) {
     const double height = f["height_m"].positive("m");
     double edge = 0.0;
     if (f.has("edge_length_m") == f.has("target_triangles")) {
-      f["edge_length_m"].fail("or 'target_triangles' must be given, exactly one of them");
+      f.fail_child("edge_length_m", "or 'target_triangles' must be given, exactly one of them");
     }
     if (auto e = f.optional("edge_length_m")) edge = e->positive("m");
     if (auto t = f.optional("target_triangles")) {
@@ -104,6 +105,13 @@ void read_stages(const JsonField& f, Scenario& s, const ClampSet& clamps) {
     st.only_keys({"id", "clamps"});
     Stage stage;
     stage.id = st.has("id") ? st["id"].string() : std::to_string(i + 1);
+    // Stage ids name output files (stage_<id>.ply): keep them to plain, unique file-name words.
+    const bool plain = !stage.id.empty() && stage.id != "." && stage.id != ".." &&
+                       stage.id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") == std::string::npos;
+    if (!plain) st.fail_child("id", "must be letters, digits, '_', '.' or '-' (it names a file), got \"" + stage.id + "\"");
+    for (const Stage& earlier : s.stages) {
+      if (earlier.id == stage.id) st.fail_child("id", "\"" + stage.id + "\" is used by an earlier stage");
+    }
     const JsonField c = st["clamps"];
     if (!c.is_object()) c.fail("must be an object {\"clamp id\": pose, ...}");
     for (const auto& item : c.json().items()) {
@@ -115,6 +123,9 @@ void read_stages(const JsonField& f, Scenario& s, const ClampSet& clamps) {
       }
       poses[index] = read_pose(c[item.key()], poses[index], s.placement);
     }
+    if (std::none_of(poses.begin(), poses.end(), [](const ClampPose& p) { return p.engaged; })) {
+      st.fail_child("clamps", "leave no clamp holding the sheet: a free sheet has no static equilibrium");
+    }
     stage.poses = poses;
     s.stages.push_back(stage);
   }
@@ -122,8 +133,15 @@ void read_stages(const JsonField& f, Scenario& s, const ClampSet& clamps) {
 
 void read_solver(const JsonField& f, ContinuationOptions& o) {
   f.only_keys({"increment_m", "increment_deg", "residual_tolerance", "max_iterations"});
-  if (auto v = f.optional("increment_m")) o.increment_m = v->positive("m");
-  if (auto v = f.optional("increment_deg")) o.increment_rad = v->positive("deg") * M_PI / 180.0;
+  // Bounded so the increment count stays an int and a run stays finite.
+  if (auto v = f.optional("increment_m")) {
+    o.increment_m = v->positive("m");
+    if (o.increment_m < 1e-4) v->fail("must be at least 1e-4 m");
+  }
+  if (auto v = f.optional("increment_deg")) {
+    o.increment_rad = v->positive("deg") * M_PI / 180.0;
+    if (o.increment_rad < 1e-4) v->fail("must be at least 0.006 deg");
+  }
   if (auto v = f.optional("residual_tolerance")) o.newton.residual_tolerance = v->positive("(relative)");
   if (auto v = f.optional("max_iterations")) o.newton.max_iterations = v->positive_integer();
 }
@@ -138,7 +156,7 @@ Scenario scenario_from_json(const nlohmann::json& j, const std::string& source,
   s.source = source;
   read_sheet(f["sheet"], base_directory, s);
   if (f.has("material") == f.has("material_file")) {
-    f["material"].fail("or 'material_file' must be given, exactly one of them");
+    f.fail_child("material", "or 'material_file' must be given, exactly one of them");
   }
   if (auto m = f.optional("material")) {
     s.material = material_from_json(m->json(), source + " (material)");

@@ -66,6 +66,11 @@ SheetMesh make_rectangular_sheet(double width_m, double height_m, double edge_le
   require_positive(width_m, "width_m");
   require_positive(height_m, "height_m");
   require_positive(edge_length_m, "edge_length_m");
+  // Refuse absurd sizes before any search over them (a tiny edge would loop for minutes).
+  if (width_m * height_m / (edge_length_m * edge_length_m) > 2.0e6) {
+    throw std::invalid_argument("sheet: edge_length_m " + std::to_string(edge_length_m) +
+                                " gives more than 4M triangles");
+  }
   const bool offset = pattern == TriangulationPattern::kOffsetRows;
   long nx = std::max(1L, std::lround(width_m / edge_length_m));
   long ny = std::max(1L, std::lround(height_m / edge_length_m));

@@ -7,6 +7,7 @@ namespace twin {
 const char* to_string(SolveStatus status) {
   switch (status) {
     case SolveStatus::kConverged: return "converged";
+    case SolveStatus::kIterationBudget: return "iteration budget used (accepted)";
     case SolveStatus::kMaxIterations: return "no convergence within the iteration limit";
     case SolveStatus::kLineSearchFailed: return "line search failed";
     case SolveStatus::kNonFinite: return "non-finite energy or force";

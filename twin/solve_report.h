@@ -8,6 +8,8 @@ namespace twin {
 
 enum class SolveStatus {
   kConverged,           // residual below tolerance: the result is an equilibrium / a valid step
+  kIterationBudget,     // a fixed-iteration solve (a linearised implicit step) that lowered its
+                        // objective with finite forces: usable by that scheme's definition
   kMaxIterations,       // no convergence within the iteration budget
   kLineSearchFailed,    // no step decreased the energy (stagnation or a broken model)
   kNonFinite,           // NaN or infinity in energy or forces (diverged or degenerate triangle)
@@ -21,12 +23,15 @@ struct SolveReport {
   SolveStatus status = SolveStatus::kMaxIterations;
   int iterations = 0;        // Newton iterations
   int factorizations = 0;    // numeric Cholesky factorisations (shifted retries included)
-  double residual = 0.0;     // ||free force|| / force scale, at the returned (or best) state
+  double residual = 0.0;     // ||free force|| / force scale at the last iterate (on failure x
+                             // is back at its start, not at that iterate)
   double energy_J = 0.0;
   double seconds = 0.0;
   std::string message;
 
-  bool usable() const { return status == SolveStatus::kConverged; }
+  bool usable() const {
+    return status == SolveStatus::kConverged || status == SolveStatus::kIterationBudget;
+  }
   std::string brief() const;
 };
 

@@ -14,6 +14,8 @@ ViscosityTerm::ViscosityTerm(const std::vector<MembraneElement>& elements, int v
 
 void ViscosityTerm::set_viscosity(double tensile_viscosity_Ns_m, double shear_viscosity_Ns_m) {
   viscosity_ = Vec3(tensile_viscosity_Ns_m, tensile_viscosity_Ns_m, shear_viscosity_Ns_m);
+  // Turned off: no damping left over from an earlier step.
+  if (!active()) std::fill(damping_.begin(), damping_.end(), Mat9::Zero());
 }
 
 void ViscosityTerm::set_step(const VecX& x0, double dt_s) {

@@ -1,3 +1,4 @@
+#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <random>
 
@@ -54,6 +55,30 @@ TEST_CASE("assembled Hessian over free vertices matches finite differences", "[t
     const double error = (fd - assembled).norm() / assembled.norm();
     INFO("relative error " << error);
     CHECK(error < 1e-6);
+  }
+}
+
+TEST_CASE("assembled projected Hessian is positive semi-definite", "[twin][assembly]") {
+  Material material;
+  material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 2e-3;
+  const ShellModel model(make_rectangular_sheet(0.2, 0.15, 0.05), material);
+  const Objective objective(model.potential_terms());
+  std::mt19937 rng(2);
+  // Compressed and crumpled: membrane stresses negative, hinges bent both ways.
+  const VecX x = 0.85 * testing::random_deformed(model.mesh().rest_uv, 0.2, 0.08, rng);
+  const DofMap dofs(std::vector<char>(model.vertex_count(), 0));
+  HessianPattern pattern(dofs, objective.stencils());
+  for (HessianMode mode : {HessianMode::kExact, HessianMode::kProjected}) {
+    objective.evaluate(x, nullptr, &pattern, mode);
+    const Eigen::MatrixXd upper(pattern.matrix());
+    const Eigen::MatrixXd h = upper.selfadjointView<Eigen::Upper>();
+    const double lowest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues().minCoeff();
+    INFO((mode == HessianMode::kExact ? "exact" : "projected") << ": lowest eigenvalue " << lowest);
+    if (mode == HessianMode::kExact) {
+      CHECK(lowest < -1e-3 * h.norm() / h.rows());  // the state really is indefinite
+    } else {
+      CHECK(lowest > -1e-9 * h.norm());
+    }
   }
 }
 

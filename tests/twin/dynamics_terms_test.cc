@@ -35,8 +35,13 @@ TEST_CASE("inertia and viscosity terms match finite differences", "[twin][energy
   const ShellModel model(make_rectangular_sheet(0.2, 0.1, 0.05), material);
   std::mt19937 rng(4);
   const VecX x0 = testing::random_deformed(model.mesh().rest_uv, 0.2, 0.05, rng);
-  const VecX v0 = VecX::Random(x0.size());
-  const VecX x = x0 + 0.01 * v0 + 1e-3 * VecX::Random(x0.size());
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  VecX v0(x0.size()), wiggle(x0.size());
+  for (int i = 0; i < x0.size(); ++i) {
+    v0(i) = unit(rng);
+    wiggle(i) = unit(rng);
+  }
+  const VecX x = x0 + 0.01 * v0 + 1e-3 * wiggle;
 
   InertiaTerm inertia(model.vertex_masses_kg(), material.mass_damping_1_s);
   inertia.set_step(x0, v0, 0.01);
@@ -62,7 +67,9 @@ TEST_CASE("viscous force is the strain-rate stress of the paper", "[twin][energy
   const ShellModel model(make_rectangular_sheet(0.1, 0.1, 0.1), material);
   std::mt19937 rng(8);
   const VecX x0 = testing::random_deformed(model.mesh().rest_uv, 0.1, 0.05, rng);
-  const VecX v = VecX::Random(x0.size());
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  VecX v(x0.size());
+  for (int i = 0; i < x0.size(); ++i) v(i) = unit(rng);
   const double dt = 0.01;
   ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(), 2.0, 0.5);
   viscosity.set_step(x0, dt);

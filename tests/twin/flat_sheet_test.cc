@@ -62,10 +62,12 @@ TEST_CASE("sheet_mesh_from_flat keeps x and y of a horizontal mesh and uses uv",
     CHECK(flat.rest_uv[i] == mesh.positions[i].head<2>());
   }
 
-  // With uv the positions may be any shape: the sheet at drape positions round-trips.
+  // With uv the positions may be any unstretched shape: the sheet rolled on a cylinder
+  // (radius 0.1 m) round-trips.
   VecX x(3 * sheet.vertex_count());
   for (int i = 0; i < sheet.vertex_count(); ++i) {
-    vertex(x, i) = Vec3(sheet.rest_uv[i].x(), 0.1 * std::sin(sheet.rest_uv[i].y()), 0.3);
+    const double v = sheet.rest_uv[i].y();
+    vertex(x, i) = Vec3(sheet.rest_uv[i].x(), 0.1 * std::sin(v / 0.1), 0.3 + 0.1 * (1 - std::cos(v / 0.1)));
   }
   const SurfaceMesh draped = surface_from_positions(sheet, x);
   CHECK(draped.positions[5] == vertex(x, 5));
@@ -73,6 +75,10 @@ TEST_CASE("sheet_mesh_from_flat keeps x and y of a horizontal mesh and uses uv",
   CHECK(from_uv.rest_uv == sheet.rest_uv);
   CHECK(from_uv.triangles == sheet.triangles);
   CHECK_THROWS_WITH(surface_from_positions(sheet, VecX(6)), Catch::Contains("expected 3 x"));
+  // Texture coordinates in [0, 1] instead of metres are refused, not used as a pre-stress.
+  SurfaceMesh normalised = draped;
+  for (Vec2& uv : normalised.uv) uv = Vec2(uv.x() / 0.3, uv.y() / 0.2);
+  CHECK_THROWS_WITH(sheet_mesh_from_flat(normalised), Catch::Contains("must be in metres"));
 
   // Mixed orientation names a triangle.
   mesh.triangles[3] = {mesh.triangles[3][0], mesh.triangles[3][2], mesh.triangles[3][1]};

@@ -73,10 +73,15 @@ TEST_CASE("bad material values are rejected with the file and field named", "[tw
   CHECK_THROWS_WITH(material_from_json(nan_value, "f.json"), Catch::Contains("shear_stiffness_N_m"));
   json no_thickness = composite();
   no_thickness.erase("thickness_m");
-  CHECK_THROWS_WITH(material_from_json(no_thickness, "f.json"), Catch::Contains("'thickness_m'"));
+  CHECK_THROWS_WITH(material_from_json(no_thickness, "f.json"),
+                    Catch::Contains("'thickness_m' is needed to convert"));
   json both = composite();
   both["bending_rigidity_Nm"] = 1e-3;
   CHECK_THROWS_WITH(material_from_json(both, "f.json"), Catch::Contains("exactly one"));
+  json neither = composite();
+  neither.erase("bending_modulus_Pa");
+  CHECK_THROWS_WITH(material_from_json(neither, "f.json"),
+                    Catch::Contains("'bending_rigidity_Nm' or 'bending_modulus_Pa'"));
   json wrong_form = composite();
   wrong_form["bending_given_as"] = "rigidity";
   CHECK_THROWS_WITH(material_from_json(wrong_form, "f.json"), Catch::Contains("'bending_given_as'"));

@@ -292,5 +292,23 @@ TEST_CASE("a failed write leaves the existing file untouched", "[twin][mesh_io]"
   CHECK_FALSE(fs::exists(dir / "keep.ply.tmp"));
 }
 
+TEST_CASE("header counts that the file cannot hold are refused before allocating",
+          "[twin][mesh_io]") {
+  TempDir dir;
+  const fs::path huge = dir / "huge.ply";
+  write_file(huge,
+             "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
+             "property float x\nproperty float y\nproperty float z\nend_header\n");
+  CHECK_THROWS_WITH(read_surface_mesh(huge), Catch::Contains("huge.ply") &&
+                                                 Catch::Contains("more elements than"));
+  const fs::path empty = dir / "empty.ply";
+  write_file(empty,
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+             "property float z\nelement junk 1000000000000000000\nelement face 1\n"
+             "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  CHECK_THROWS_WITH(read_surface_mesh(empty), Catch::Contains("empty.ply:7") &&
+                                                  Catch::Contains("no properties"));
+}
+
 }  // namespace
 }  // namespace twin

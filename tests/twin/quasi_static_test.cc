@@ -85,5 +85,28 @@ TEST_CASE("a failed move leaves the sheet where it was", "[twin][quasi_static]")
   CHECK(x == before);
 }
 
+TEST_CASE("a clamp that grips again takes the sheet as it is", "[twin][quasi_static]") {
+  Rig rig;
+  QuasiStaticSolver solver(*rig.model, rig.clamps);
+  VecX x = place_flat(rig.model->mesh(), rig.placement);
+  std::vector<ClampPose> released(rig.poses.size());
+  for (auto& p : released) p.engaged = false;
+  REQUIRE(solver.move(released, rig.poses, x).usable());
+  std::vector<ClampPose> without_c = rig.poses;
+  without_c[2].engaged = false;
+  REQUIRE(solver.move(rig.poses, without_c, x).usable());
+  // Re-grip C exactly where and how its material is now: nothing should jump.
+  std::vector<ClampPose> regrip = without_c;
+  regrip[2].engaged = true;
+  regrip[2].position_m = rig.clamps[2].material_point_position(x);
+  regrip[2].rotation = rig.clamps[2].material_frame(x);
+  const VecX before = x;
+  const ContinuationReport report = solver.move(without_c, regrip, x);
+  INFO(report.brief());
+  REQUIRE(report.usable());
+  CHECK((x - before).cwiseAbs().maxCoeff() < 5e-3);  // m; the patch is only made rigid
+  CHECK(rig.clamps[2].material_frame(x).isUnitary(1e-9));
+}
+
 }  // namespace
 }  // namespace twin

@@ -74,6 +74,18 @@ TEST_CASE("bad scenario files are rejected with the field named", "[twin][scenar
   json duplicate = small_scenario();
   duplicate["clamps"][1]["id"] = "A";
   CHECK_THROWS_WITH(scenario_from_json(duplicate, "cell.json", ""), Catch::Contains("used twice"));
+  json escaping = small_scenario();
+  escaping["stages"][0]["id"] = "../../etc";
+  CHECK_THROWS_WITH(scenario_from_json(escaping, "cell.json", ""),
+                    Catch::Contains("'stages[0].id' must be letters"));
+  json repeated = small_scenario();
+  repeated["stages"][1]["id"] = "hold";
+  CHECK_THROWS_WITH(scenario_from_json(repeated, "cell.json", ""),
+                    Catch::Contains("'stages[1].id'") && Catch::Contains("earlier stage"));
+  json falling = small_scenario();
+  falling["stages"][2]["clamps"]["B"] = "released";
+  CHECK_THROWS_WITH(scenario_from_json(falling, "cell.json", ""),
+                    Catch::Contains("'stages[2].clamps' leave no clamp holding"));
   json no_stages = small_scenario();
   no_stages["stages"] = json::array();
   CHECK_THROWS_WITH(scenario_from_json(no_stages, "cell.json", ""), Catch::Contains("'stages'"));

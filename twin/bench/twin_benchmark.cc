@@ -1,9 +1,10 @@
 // Benchmark of the sheet twin (issue 2): the paper's composite sheet (1.17 x 0.975 m,
 // 0.3 kg/m^2, tensile 5000 N/m, shear 5000 N/m, bending 0.001 N*m) held by four clamps, on
 // meshes of about 1.5k, 6k and 24k triangles, with one and two threads. For each it prints
-// the static equilibrium from the flat sheet (time, Newton iterations) and the implicit
+// the static equilibrium from the flat sheet (time, Newton iterations), the implicit
 // backward-Euler step (dt 10 ms, median and 90th percentile over >= 100 steps after warm-up,
-// while one clamp circles so the sheet keeps moving), and the peak resident memory.
+// while one clamp circles so the sheet keeps moving) solved to convergence and linearised (one
+// Newton iteration, the paper engine's scheme), and the peak resident memory.
 //
 // Each (mesh, threads) case runs in its own process so peak RSS and thread settings are its own.
 // Usage: twin_benchmark [--steps N] [--sizes 1500,6000,24000] [--threads 1,2]
@@ -76,37 +77,53 @@ int run_case(int triangles, int threads, int steps) {
   const SolveReport equilibrium = statics.solve(clamps, poses, x);
   const double static_ms = 1e3 * seconds_since(static_start);
 
-  ImplicitStepper stepper(model);
-  VecX v = VecX::Zero(x.size());
-  const double dt = 0.01;
-  const int warm_up = 10;
-  std::vector<double> step_ms;
-  int newton = 0, failed = 0;
-  const Vec3 a0 = poses[0].position_m;
-  for (int s = 0; s < warm_up + steps; ++s) {
-    // Clamp A circles (radius 5 cm, 2 s period) so the sheet never settles.
-    const double t = (s + 1) * dt;
-    poses[0].position_m = a0 + 0.05 * Vec3(std::cos(M_PI * t) - 1.0, std::sin(M_PI * t), 0.0);
-    const auto t0 = Clock::now();
-    const SolveReport r = stepper.step(x, v, dt, clamps, poses);
-    const double ms = 1e3 * seconds_since(t0);
-    if (!r.usable()) ++failed;
-    if (s >= warm_up) {
-      step_ms.push_back(ms);
-      newton += r.iterations;
+  // Time both implicit schemes from the same equilibrium, each with its own stepper.
+  struct StepFigures {
+    std::vector<double> ms;
+    int newton = 0, failed = 0, substeps = 0;
+  };
+  auto run_steps = [&](const StepOptions& options) {
+    StepFigures f;
+    ImplicitStepper stepper(model);
+    VecX xs = x, v = VecX::Zero(x.size());
+    std::vector<ClampPose> moving = poses;
+    const Vec3 a0 = poses[0].position_m;
+    const double dt = 0.01;
+    const int warm_up = 10;
+    for (int s = 0; s < warm_up + steps; ++s) {
+      // Clamp A circles (radius 5 cm, 2 s period) so the sheet never settles.
+      const double t = (s + 1) * dt;
+      moving[0].position_m = a0 + 0.05 * Vec3(std::cos(M_PI * t) - 1.0, std::sin(M_PI * t), 0.0);
+      const auto t0 = Clock::now();
+      const SolveReport r = stepper.step(xs, v, dt, clamps, moving, options);
+      const double ms = 1e3 * seconds_since(t0);
+      if (s < warm_up) continue;
+      f.ms.push_back(ms);
+      f.newton += r.iterations;
+      f.substeps += stepper.last_substeps();
+      if (!r.usable()) ++f.failed;
     }
-  }
+    return f;
+  };
+  const StepFigures converged = run_steps(default_step_options());
+  const StepFigures linearized = run_steps(linearized_step_options());
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  fmt::print(
-      "triangles {:6d}  vertices {:6d}  threads {}  | step median {:7.2f} ms  p90 {:7.2f} ms  "
-      "Newton/step {:.2f}  failed {}  | static {:8.1f} ms  {:4d} Newton iterations  {}  | "
-      "peak RSS {:6.1f} MB\n",
-      model.mesh().triangle_count(), model.vertex_count(), threads, percentile(step_ms, 0.5),
-      percentile(step_ms, 0.9), static_cast<double>(newton) / steps, failed, static_ms,
-      equilibrium.iterations, equilibrium.usable() ? "converged" : to_string(equilibrium.status),
-      usage.ru_maxrss / 1024.0);
+  fmt::print("triangles {:6d}  vertices {:6d}  threads {}  | static {:8.1f} ms  {:4d} Newton "
+             "iterations  {}  | peak RSS {:6.1f} MB\n",
+             model.mesh().triangle_count(), model.vertex_count(), threads, static_ms,
+             equilibrium.iterations, equilibrium.usable() ? "converged" : to_string(equilibrium.status),
+             usage.ru_maxrss / 1024.0);
+  auto print_steps = [&](const char* name, const StepFigures& f) {
+    fmt::print("    {:<14} step median {:8.2f} ms  p90 {:8.2f} ms  Newton/step {:5.2f}  "
+               "sub-steps/step {:4.2f}  failed {}\n",
+               name, percentile(f.ms, 0.5), percentile(f.ms, 0.9),
+               static_cast<double>(f.newton) / steps, static_cast<double>(f.substeps) / steps, f.failed);
+  };
+  print_steps("converged BE", converged);
+  print_steps("linearized BE", linearized);
   std::fflush(stdout);
+  const int failed = converged.failed + linearized.failed;
   return equilibrium.usable() && failed == 0 ? 0 : 1;
 }
 

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "twin/atomic_file.h"
 #include "twin/mesh_io.h"
 #include "twin/scenario.h"
 
@@ -28,16 +29,6 @@ struct StageResult {
   double highest_z_m = 0.0;
   std::string file;
 };
-
-void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out.flush()) throw std::runtime_error(path.string() + ": write failed");
-  }
-  std::filesystem::rename(tmp, path);
-}
 
 int solve(const std::string& scenario_path, const std::string& out_dir, bool verbose) {
   const Scenario scenario = read_scenario_file(scenario_path);
@@ -118,7 +109,8 @@ int solve(const std::string& scenario_path, const std::string& out_dir, bool ver
     }
     summary["stages"].push_back(s);
   }
-  write_json_atomically(std::filesystem::path(out_dir) / "summary.json", summary);
+  write_file_atomically(std::filesystem::path(out_dir) / "summary.json",
+                        [&](std::ostream& out) { out << summary.dump(2) << "\n"; });
   fmt::print("\nsummary   {}\n", (std::filesystem::path(out_dir) / "summary.json").string());
   return status;
 }

@@ -1,0 +1,57 @@
+#include "twin/shell_model.h"
+
+#include <catch2/catch.hpp>
+
+#include "twin/implicit_stepper.h"
+#include "twin/viscosity_term.h"
+
+namespace twin {
+namespace {
+
+TEST_CASE("changing the material updates every term in place", "[twin][model]") {
+  Material material;
+  ShellModel model(make_rectangular_sheet(0.3, 0.2, 0.03), material);
+  const VecX x = place_flat(model.mesh(), SheetPlacement{Vec3(0, 0, 2.0), Mat3::Identity()});
+  const double mass = model.total_mass_kg();
+  CHECK(mass == Approx(0.3 * 0.06));
+  const double gravity_energy = model.gravity().evaluate(x, nullptr, nullptr, HessianMode::kExact);
+
+  Material heavier = material;
+  heavier.surface_density_kg_m2 *= 2.0;
+  heavier.bending_rigidity_u_Nm *= 3.0;
+  heavier.bending_rigidity_v_Nm *= 3.0;
+  model.set_material(heavier);
+  CHECK(model.total_mass_kg() == Approx(2.0 * mass));
+  CHECK(model.gravity().evaluate(x, nullptr, nullptr, HessianMode::kExact) ==
+        Approx(2.0 * gravity_energy));
+  CHECK(model.bending().elements()[0].stiffness_Nm > 0.0);
+
+  // A material the mesh cannot represent is refused and leaves the model as it was.
+  const double k0 = model.bending().elements()[0].stiffness_Nm;
+  Material extreme = heavier;
+  extreme.bending_rigidity_v_Nm = 1000.0 * extreme.bending_rigidity_u_Nm;
+  CHECK_THROWS(model.set_material(extreme));
+  CHECK(model.total_mass_kg() == Approx(2.0 * mass));
+  CHECK(model.bending().elements()[0].stiffness_Nm == k0);
+  Material negative = heavier;
+  negative.shear_stiffness_N_m = -1.0;
+  CHECK_THROWS_WITH(model.set_material(negative), Catch::Contains("shear_stiffness_N_m"));
+}
+
+TEST_CASE("viscosity switched off leaves no damping behind", "[twin][model]") {
+  Material material;
+  const ShellModel model(make_rectangular_sheet(0.2, 0.1, 0.05), material);
+  ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(), 3.0, 1.5);
+  VecX x0 = place_flat(model.mesh(), SheetPlacement());
+  for (int i = 0; i < x0.size(); i += 3) x0(i) *= 1.01;  // a stretched start, so J0 != 0
+  VecX x1 = x0;
+  x1(0) += 1e-3;
+  viscosity.set_step(x0, 0.01);
+  CHECK(viscosity.evaluate(x1, nullptr, nullptr, HessianMode::kExact) > 0.0);
+  viscosity.set_viscosity(0.0, 0.0);
+  viscosity.set_step(x0, 0.01);
+  CHECK(viscosity.evaluate(x1, nullptr, nullptr, HessianMode::kExact) == 0.0);
+}
+
+}  // namespace
+}  // namespace twin
