@@ -77,13 +77,23 @@ bool NewtonLinearSolver::solve(const Objective& objective, const VecX& x, const 
     int iterations = 0;
     const bool ok = preconditioned_cg(-g_free, tolerance, options.max_cg_iterations, step, iterations);
     stats.cg_iterations += iterations;
+    // One preconditioner application plus one per iteration.
+    const double cost = 1.0 + iterations;
+    ++cycle_solves_;
+    cycle_cost_ += cost;
     // On an indefinite H, CG can converge without meeting negative curvature and still return
     // an ascent direction; only a descent direction is taken from it.
-    if (ok && step.allFinite() && step.dot(g_free) < 0.0) return true;
+    if (ok && step.allFinite() && step.dot(g_free) < 0.0) {
+      // This solve cost more than the cycle's average: the factor has aged; renew it next time.
+      if (cost > cycle_cost_ / cycle_solves_) factor_valid_ = false;
+      return true;
+    }
   }
   factor_valid_ = factorize_current(objective, x, mode, stats);
   stats.mode_used = mode;
   if (!factor_valid_) return false;
+  cycle_solves_ = 1;
+  cycle_cost_ = options.factorization_cost_in_cg_iterations + 1.0;
   step = -cholesky_.solve(g_free);
   return step.allFinite();
 }

@@ -6,7 +6,11 @@
 // iterations and across solves (successive time steps, continuation increments) as long as the
 // sparsity pattern does. Each new system is solved by conjugate gradients preconditioned with
 // that factor; only when CG needs too many iterations or meets negative curvature is the current
-// Hessian factorised. Factorising costs tens of CG iterations on a 6k-triangle sheet.
+// Hessian factorised. As the factor ages CG needs more iterations; the factor is renewed when
+// the last solve cost more than the average solve since the last factorisation, factorisation
+// included (which minimises the average cost per solve when the cost of a solve grows with the
+// factor's age). Measured on sheets of 1.5k-24k triangles, a numeric factorisation costs about
+// as much as 11-20 CG iterations; `factorization_cost_in_cg_iterations` says how many.
 //
 // Definiteness fix, when the matrix to factorise is not positive definite: the exact Hessian is
 // replaced by its per-element projection (HessianMode::kProjected), and that, if still not
@@ -25,6 +29,7 @@ struct LinearSolverOptions {
   bool reuse_factorization = false;
   int max_cg_iterations = 30;
   double cg_tolerance = 1e-2;  // relative residual of the linear system (the caller may lower it)
+  double factorization_cost_in_cg_iterations = 15.0;
 };
 
 struct LinearSolveStats {
@@ -59,6 +64,9 @@ class NewtonLinearSolver {
   std::unique_ptr<HessianPattern> pattern_;
   SparseCholesky cholesky_;
   bool factor_valid_ = false;
+  // The current factor's cycle: solves made with it and their cost, in CG iterations.
+  int cycle_solves_ = 0;
+  double cycle_cost_ = 0.0;
 };
 
 }  // namespace twin

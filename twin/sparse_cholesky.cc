@@ -62,6 +62,9 @@ bool SparseCholesky::factorize(const HessianPattern::Matrix& upper, double shift
   return impl_->llt.info() == Eigen::Success;
 }
 
+double SparseCholesky::factor_flops() const { return impl_->llt.cholmod().fl; }
+double SparseCholesky::factor_nonzeros() const { return impl_->llt.cholmod().lnz; }
+
 VecX SparseCholesky::solve(const VecX& rhs) const { return impl_->llt.solve(rhs); }
 
 }  // namespace twin

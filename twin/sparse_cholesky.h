@@ -22,6 +22,10 @@ class SparseCholesky {
   bool factorize(const HessianPattern::Matrix& upper, double shift = 0.0);
   VecX solve(const VecX& rhs) const;
   bool analyzed() const { return analyzed_; }
+  // From the symbolic analysis: floating-point operations of one numeric factorisation, and
+  // non-zeros of the factor (one triangular solve streams them twice).
+  double factor_flops() const;
+  double factor_nonzeros() const;
 
  private:
   struct Impl;
