@@ -1,0 +1,106 @@
+#pragma once
+// A scanned trial (issue 3): a sheet held by clamps through stages, observed at each stage as
+// marker positions (or an unordered point cloud). The format is a directory, documented in
+// README.md ("Trial directory"); in short:
+//
+//   trial.json
+//   {
+//     "material": "composite",
+//     "sheet": {"width_m": 1.17, "height_m": 0.975}        (a rectangle; u across, v up)
+//           or {"mesh_file": "specimen.obj"},               (any flat mesh, x, y = u, v in m)
+//     "thickness_m": 0.0003,
+//     "mass_kg": 0.342,  and/or  "surface_density_kg_m2": 0.3,
+//     "markers": {"grid": {"rows": 17, "cols": 17, "spacing_m": [0.07, 0.058],
+//                          "origin_m": [0.025, 0.02]}}
+//             or {"list_m": [[u, v], ...]},
+//     "clamps": [{"id": "A", "material_point_m": [u, v], "grip_radius_m": 0.02}, ...],
+//     "stages": [
+//       {"id": "1", "time_s": 0.0,                           (time optional)
+//        "clamps": {"A": [x, y, z], "B": [x, y, z], "C": "released", ...},
+//        "markers_file": "1.xyz",                             (one x y z line per marker)
+//        "scan_file": "1_scan.xyz"},                          (optional raw scanner points)
+//       {"id": "5", "clamps": {...}, "cloud_file": "5_cloud.xyz"}   (unordered points, or .ply/.obj)
+//     ]
+//   }
+//
+// Grid markers are numbered row-major: marker r * cols + c sits at origin + (c du, r dv).
+// Positions are metres in the world frame, z up (gravity along -z). A marker that was not seen
+// (under a clamp, say) is "nan nan nan" in its stage's file. Every stage must say where every
+// clamp is or that it is released; stages are in the order the clamps really moved.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "twin/clamp.h"
+#include "twin/sheet_mesh.h"
+#include "twin/types.h"
+
+namespace twin {
+
+// What was seen of the sheet at one stage.
+struct StageObservation {
+  // Per marker, in manifest order (m, world); NaN components for a marker not seen. Empty when
+  // the stage was observed as a cloud instead.
+  std::vector<Vec3> markers_m;
+  // Unordered points on the sheet (m, world), for stages without marker correspondence.
+  std::vector<Vec3> cloud_m;
+  bool has_markers() const { return !markers_m.empty(); }
+  int seen_marker_count() const;
+};
+
+struct TrialStage {
+  std::string id;
+  std::optional<double> time_s;
+  // Per clamp, in Trial::clamps order: its pose at this stage (orientation identity: the
+  // clamps' jaws stay level); engaged = false for a released clamp.
+  std::vector<ClampPose> poses;
+  StageObservation observed;
+  std::string markers_file, cloud_file, scan_file;  // as named in trial.json ("" if absent)
+};
+
+struct TrialSheet {
+  // Exactly one of: a rectangle (width_m, height_m > 0), or a mesh file.
+  double width_m = 0.0, height_m = 0.0;
+  std::string mesh_file;  // absolute path once read
+  bool is_rectangle() const { return mesh_file.empty(); }
+};
+
+struct Trial {
+  std::string directory;                 // where trial.json was read from
+  std::string material_name;
+  TrialSheet sheet;
+  double thickness_m = 0.0;
+  std::optional<double> mass_kg;
+  std::optional<double> surface_density_kg_m2;
+  std::vector<Vec2> marker_uv_m;         // material coordinates of the markers
+  std::optional<int> marker_grid_rows, marker_grid_cols;  // set when given as a grid
+  std::vector<ClampSpec> clamps;
+  std::vector<TrialStage> stages;
+
+  // Surface density (kg/m^2): the given one, else mass / sheet area.
+  double density_kg_m2(double sheet_area_m2) const;
+};
+
+// Reads and checks a trial directory. Throws std::invalid_argument / std::runtime_error whose
+// message names the file, and the field or line, and what was expected: missing files,
+// non-numeric or non-finite values, marker counts that differ from the manifest, unknown clamp
+// ids, clamps farther apart in the world than on the sheet, density that disagrees with
+// mass / area by more than 5 %, markers or clamps off the sheet.
+Trial read_trial(const std::string& directory);
+
+// The trial's rest mesh: the rectangle meshed with about `target_triangles` triangles
+// (make_rectangular_sheet), or the given mesh file as it is.
+SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles);
+
+// Writes trial.json and every stage's marker / cloud files into `directory` (created if
+// needed; files replaced atomically). File names are the stages' markers_file / cloud_file,
+// or "<id>.xyz" / "<id>_cloud.xyz" when empty. Raw scans are written by whoever made them.
+void write_trial(const Trial& trial, const std::string& directory);
+
+// Plain-text point files: one "x y z" line per point; "nan nan nan" allowed when allow_nan.
+// Blank lines and lines starting with '#' are skipped. Errors name file:line.
+std::vector<Vec3> read_xyz_file(const std::string& path, bool allow_nan);
+void write_xyz_file(const std::string& path, const std::vector<Vec3>& points);
+
+}  // namespace twin
