@@ -1,5 +1,7 @@
 #include "twin/clamp.h"
 
+#include "twin/material_point.h"
+
 #include <cmath>
 #include <limits>
 #include <set>
@@ -10,24 +12,6 @@
 
 namespace twin {
 namespace {
-
-// Barycentric coordinates of p in the rest triangle t.
-Vec3 barycentric(const SheetMesh& mesh, int t, const Vec2& p) {
-  const auto& tri = mesh.triangles[t];
-  Mat2 edges;
-  edges.col(0) = mesh.rest_uv[tri[1]] - mesh.rest_uv[tri[0]];
-  edges.col(1) = mesh.rest_uv[tri[2]] - mesh.rest_uv[tri[0]];
-  const Vec2 bc = edges.inverse() * (p - mesh.rest_uv[tri[0]]);
-  return Vec3(1.0 - bc.sum(), bc.x(), bc.y());
-}
-
-// The triangle containing p (with a tolerance for points on edges), or -1.
-int host_triangle(const SheetMesh& mesh, const Vec2& p) {
-  for (int t = 0; t < mesh.triangle_count(); ++t) {
-    if (barycentric(mesh, t, p).minCoeff() >= -1e-9) return t;
-  }
-  return -1;
-}
 
 std::string describe(const Vec2& p) { return fmt::format("({:.4g}, {:.4g}) m", p.x(), p.y()); }
 
@@ -43,8 +27,8 @@ ClampPose interpolate(const ClampPose& a, const ClampPose& b, double t) {
 
 Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
   const std::string who = "clamp '" + spec.id + "'";
-  const int host = spec.material_point_m.allFinite() ? host_triangle(mesh, spec.material_point_m) : -1;
-  if (host < 0) {
+  const auto host = locate_material_point(mesh, spec.material_point_m);
+  if (!host) {
     throw std::invalid_argument(who + ": material point " + describe(spec.material_point_m) +
                                 " is not on the sheet");
   }
@@ -62,8 +46,8 @@ Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
     }
   }
   if (vertices_.empty()) vertices_.push_back(nearest);
-  host_triangle_ = mesh.triangles[host];
-  host_weights_ = barycentric(mesh, host, spec.material_point_m);
+  host_triangle_ = host->vertices;
+  host_weights_ = host->weights;
   Mat2 edges;
   edges.col(0) = mesh.rest_uv[host_triangle_[1]] - mesh.rest_uv[host_triangle_[0]];
   edges.col(1) = mesh.rest_uv[host_triangle_[2]] - mesh.rest_uv[host_triangle_[0]];
