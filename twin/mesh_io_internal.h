@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the mesh readers and writers behind twin/mesh_io.h. Not a public API.
+// Helpers shared by the text-file readers and writers of the twin (the meshes behind
+// twin/mesh_io.h, the xyz point files of twin/trial.h). Not a public API.
 
 #include <charconv>
 #include <cstddef>
