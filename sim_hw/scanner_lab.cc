@@ -1,0 +1,220 @@
+#include "sim_hw/scanner_lab.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sim_hw/marker_scan.h"
+#include "twin/atomic_file.h"
+#include "twin/material_point.h"
+#include "twin/trial_simulation.h"
+
+namespace sim_hw {
+namespace {
+
+using twin::ClampPose;
+using twin::ClampSpec;
+using twin::Vec2;
+using twin::Vec3;
+
+// One clamp per edge, each at its own distance from the corner before it (counter-clockwise),
+// as in the paper's Fig. 7. Fractions of the edge are drawn apart so no two are alike.
+std::vector<ClampSpec> lab_clamps(double w, double h, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> fraction(0.06, 0.32);
+  std::vector<double> f;
+  while (f.size() < 4) {
+    const double c = fraction(rng);
+    if (std::all_of(f.begin(), f.end(), [&](double o) { return std::abs(o - c) > 0.03; })) f.push_back(c);
+  }
+  const double inset = 0.02, radius = 0.015;  // m: the jaws close 2 cm in from the edge
+  return {{"A", Vec2(f[0] * w, inset), radius},
+          {"B", Vec2(w - inset, f[1] * h), radius},
+          {"C", Vec2(w - f[2] * w, h - inset), radius},
+          {"D", Vec2(inset, h - f[3] * h), radius}};
+}
+
+// Stage 1: the sheet turned and shifted at random, about 1 m up, slack (each clamp pulled
+// toward the clamps' centre by a few percent) and roughly level.
+std::vector<ClampPose> lab_first_stage(const std::vector<ClampSpec>& clamps, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> yaw(-0.35, 0.35), shift(-0.1, 0.1), slack(0.03, 0.08), dz(-0.02, 0.02);
+  twin::SheetPlacement placement;
+  placement.rotation = Eigen::AngleAxisd(yaw(rng), Vec3::UnitZ()).toRotationMatrix();
+  placement.origin_m = Vec3(shift(rng), shift(rng), 1.0);
+  std::vector<Vec3> flat;
+  Vec3 centre = Vec3::Zero();
+  for (const ClampSpec& c : clamps) {
+    flat.push_back(placement.to_world(c.material_point_m));
+    centre += flat.back() / static_cast<double>(clamps.size());
+  }
+  std::vector<ClampPose> poses(clamps.size());
+  for (std::size_t i = 0; i < clamps.size(); ++i) {
+    poses[i].position_m = centre + (1.0 - slack(rng)) * (flat[i] - centre) + Vec3(0, 0, dz(rng));
+  }
+  return poses;
+}
+
+std::vector<std::vector<ClampPose>> lab_stages(const std::vector<ClampSpec>& clamps, std::mt19937_64& rng) {
+  std::vector<std::vector<ClampPose>> stages = {lab_first_stage(clamps, rng)};
+  std::vector<int> order(clamps.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), rng);
+  std::uniform_real_distribution<double> up(0.12, 0.30), inward(0.0, 0.15);
+  // Stages 2-4: one clamp each moves up and toward the centre, by at most 350 mm.
+  for (int k = 0; k < 3; ++k) {
+    std::vector<ClampPose> next = stages.back();
+    Vec3 centre = Vec3::Zero();
+    for (const ClampPose& p : next) centre += p.position_m / static_cast<double>(next.size());
+    ClampPose& moved = next[order[k]];
+    Vec3 towards = centre - moved.position_m;
+    towards.z() = 0.0;
+    Vec3 d = up(rng) * Vec3::UnitZ() + inward(rng) * towards.normalized();
+    if (d.norm() > 0.35) d *= 0.35 / d.norm();
+    moved.position_m += d;
+    stages.push_back(next);
+  }
+  // Stage 5: the clamp that has not moved lets go.
+  std::vector<ClampPose> last = stages.back();
+  last[order[3]].engaged = false;
+  stages.push_back(last);
+  return stages;
+}
+
+// The sheet's normal at a marker, on the side the markers are stuck to (the side facing up
+// when the sheet lies flat: the rest triangles are counter-clockwise in (u, v)).
+Vec3 marker_normal(const twin::MaterialPointLocation& at, const twin::VecX& x) {
+  const Vec3 a = x.segment<3>(3 * at.vertices[0]), b = x.segment<3>(3 * at.vertices[1]),
+             c = x.segment<3>(3 * at.vertices[2]);
+  return (b - a).cross(c - a).normalized();
+}
+
+}  // namespace
+
+LabTrial make_lab_trial(const ScannerLabConfig& config) {
+  LabTrial lab;
+  lab.specimen = lab_specimen(config.specimen);
+  const twin::Material truth = config.material_override.value_or(lab.specimen.truth);
+  const double w = lab.specimen.width_m, h = lab.specimen.height_m;
+  std::mt19937_64 rng(config.seed);
+
+  twin::Trial& trial = lab.trial;
+  trial.material_name = lab.specimen.name;
+  trial.sheet.width_m = w;
+  trial.sheet.height_m = h;
+  trial.thickness_m = lab.specimen.thickness_m;
+  trial.mass_kg = lab.specimen.mass_kg;
+  trial.marker_grid_rows = config.marker_rows;
+  trial.marker_grid_cols = config.marker_cols;
+  // Markers cover the sheet with a margin of 3 % of the width on every side.
+  const double margin = 0.03 * w;
+  const Vec2 spacing((w - 2 * margin) / (config.marker_cols - 1), (h - 2 * margin) / (config.marker_rows - 1));
+  for (int r = 0; r < config.marker_rows; ++r) {
+    for (int c = 0; c < config.marker_cols; ++c) {
+      trial.marker_uv_m.push_back(Vec2(margin + c * spacing.x(), margin + r * spacing.y()));
+    }
+  }
+  trial.clamps = lab_clamps(w, h, rng);
+  const std::vector<std::vector<ClampPose>> true_poses = lab_stages(trial.clamps, rng);
+  lab.true_stage1_poses = true_poses.front();
+
+  // The "real" sheet: the lab's material on the reference mesh.
+  const twin::ShellModel reference(
+      twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
+      truth);
+  const twin::ClampSet clamps(reference.mesh(), trial.clamps);
+  std::vector<twin::TrialStage> reference_stages(true_poses.size());
+  for (std::size_t s = 0; s < true_poses.size(); ++s) {
+    reference_stages[s].id = std::to_string(s + 1);
+    reference_stages[s].poses = true_poses[s];
+  }
+  const twin::TrialSimulation simulated = twin::simulate_stages(reference, clamps, reference_stages);
+  if (!simulated.usable()) {
+    throw std::runtime_error(fmt::format("scanner lab: the reference sheet ({}, seed {}) failed at {}",
+                                         config.specimen, config.seed, simulated.failure));
+  }
+
+  const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
+  std::normal_distribution<double> marker_noise(0.0, config.marker_noise_m), probe_noise(0.0, config.probe_noise_m);
+  for (std::size_t s = 0; s < true_poses.size(); ++s) {
+    const twin::VecX& x = simulated.stages[s].x;
+    twin::TrialStage stage;
+    stage.id = reference_stages[s].id;
+    stage.time_s = 120.0 * static_cast<double>(s);  // a stage every two minutes
+    stage.markers_file = stage.id + ".xyz";
+    for (ClampPose pose : true_poses[s]) {
+      if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));
+      stage.poses.push_back(pose);
+    }
+    const std::vector<Vec3> truth_markers = markers.positions(x);
+    lab.true_markers_m.push_back(truth_markers);
+    std::vector<Vec3> scan;
+    for (int m = 0; m < markers.size(); ++m) {
+      bool hidden = false;
+      for (std::size_t c = 0; c < trial.clamps.size(); ++c) {
+        hidden |= true_poses[s][c].engaged &&
+                  (trial.marker_uv_m[m] - trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m;
+      }
+      if (hidden) {
+        stage.observed.markers_m.push_back(Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+        continue;
+      }
+      stage.observed.markers_m.push_back(truth_markers[m] + Vec3(marker_noise(rng), marker_noise(rng), marker_noise(rng)));
+      if (config.raw_scans) {
+        append_marker_scan(truth_markers[m], marker_normal(markers.location(m), x),
+                           config.scan_points_per_marker, config.scan_noise_m, rng, scan);
+      }
+    }
+    if (config.raw_scans) {
+      // Stray returns (dust, the clamps' edges): half a percent of the points, anywhere near the sheet.
+      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+      for (const Vec3& p : scan) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      const std::size_t strays = scan.size() / 200;
+      for (std::size_t i = 0; i < strays; ++i) {
+        scan.push_back(lo + Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(hi - lo));
+      }
+      stage.scan_file = stage.id + "_scan.xyz";
+    }
+    lab.scans_m.push_back(std::move(scan));
+    trial.stages.push_back(std::move(stage));
+  }
+  return lab;
+}
+
+void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
+                     const std::string& trial_directory, const std::string& truth_directory) {
+  twin::write_trial(lab.trial, trial_directory);
+  for (std::size_t s = 0; s < lab.trial.stages.size(); ++s) {
+    if (!lab.trial.stages[s].scan_file.empty()) {
+      twin::write_xyz_file((std::filesystem::path(trial_directory) / lab.trial.stages[s].scan_file).string(),
+                           lab.scans_m[s]);
+    }
+  }
+  std::filesystem::create_directories(truth_directory);
+  const twin::Material truth = config.material_override.value_or(lab.specimen.truth);
+  twin::write_file_atomically(std::filesystem::path(truth_directory) / "material.json",
+                              [&](std::ostream& out) { out << twin::material_to_json(truth).dump(2) << "\n"; });
+  for (std::size_t s = 0; s < lab.true_markers_m.size(); ++s) {
+    twin::write_xyz_file((std::filesystem::path(truth_directory) / (lab.trial.stages[s].id + "_true.xyz")).string(),
+                         lab.true_markers_m[s]);
+  }
+  nlohmann::json j;
+  j["specimen"] = config.specimen;
+  j["seed"] = config.seed;
+  j["reference_triangles"] = config.reference_triangles;
+  j["marker_noise_m"] = config.marker_noise_m;
+  j["probe_noise_m"] = config.probe_noise_m;
+  j["scan_noise_m"] = config.scan_noise_m;
+  twin::write_file_atomically(std::filesystem::path(truth_directory) / "lab.json",
+                              [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+}
+
+}  // namespace sim_hw

@@ -1,0 +1,53 @@
+#pragma once
+// The scanner lab: makes trials the way the paper's experiment did (section 4.2), from a
+// reference sheet simulated with the lab's own material on a finer mesh than the twin uses.
+//
+// Protocol: 17 x 17 raised markers; four clamps, one per edge, at distinct distances from the
+// corners; stage 1 holds the sheet slack and roughly level; stages 2-4 each move a different
+// clamp up (and toward the centre) by at most 350 mm; stage 5 releases a clamp. Observations:
+// per marker its position with scanner noise, markers under a closed clamp hidden (NaN);
+// clamp positions as a contact probe measures them (small noise); optionally the raw scan
+// around each seen marker (see marker_scan.h). Everything random comes from the seed.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim_hw/lab_materials.h"
+#include "twin/trial.h"
+
+namespace sim_hw {
+
+struct ScannerLabConfig {
+  std::string specimen = "composite";
+  std::uint64_t seed = 1;
+  int reference_triangles = 6000;  // the "real" sheet's mesh; the twin should use a coarser one
+  int marker_rows = 17, marker_cols = 17;
+  double marker_noise_m = 0.3e-3;  // per marker after extraction, each axis (1 sigma)
+  double probe_noise_m = 0.05e-3;  // contact probe on the clamps, each axis (1 sigma)
+  double clamp_jaw_radius_m = 0.03;  // markers closer than this to a closed clamp are hidden
+  bool raw_scans = true;
+  double scan_noise_m = 0.1e-3;    // raw scanner points, each axis (1 sigma)
+  int scan_points_per_marker = 300;
+  // Overrides the specimen's truth (a lab material file); hidden effects come in later.
+  std::optional<twin::Material> material_override;
+};
+
+struct LabTrial {
+  twin::Trial trial;                             // what a scanner would deliver
+  std::vector<std::vector<twin::Vec3>> scans_m;  // per stage, raw scan points (may be empty)
+  // Truth, kept out of the trial directory:
+  LabSpecimen specimen;
+  std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
+  std::vector<twin::ClampPose> true_stage1_poses;
+};
+
+// Throws std::runtime_error if the reference simulation fails (naming the stage).
+LabTrial make_lab_trial(const ScannerLabConfig& config);
+
+// Writes the trial into `trial_directory` (trial.json, markers, scans) and the truth (material
+// file, noise-free markers, config) into `truth_directory`, which identification never reads.
+void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
+                     const std::string& trial_directory, const std::string& truth_directory);
+
+}  // namespace sim_hw

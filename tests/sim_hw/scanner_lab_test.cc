@@ -1,0 +1,121 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "sim_hw/scanner_lab.h"
+
+namespace sim_hw {
+namespace {
+
+using twin::Vec3;
+
+ScannerLabConfig small_lab(std::uint64_t seed) {
+  ScannerLabConfig config;
+  config.specimen = "cloth";
+  config.seed = seed;
+  config.reference_triangles = 800;  // coarse, for test speed; trials for identification use more
+  config.scan_points_per_marker = 40;
+  return config;
+}
+
+// One lab trial, made once and shared by the checks below (a reference simulation is seconds).
+const LabTrial& lab_trial() {
+  static const LabTrial lab = make_lab_trial(small_lab(3));
+  return lab;
+}
+
+TEST_CASE("the scanner lab follows the paper's five-stage protocol", "[sim_hw][lab]") {
+  const LabTrial& lab = lab_trial();
+  const twin::Trial& trial = lab.trial;
+  REQUIRE(trial.stages.size() == 5);
+  CHECK(trial.marker_uv_m.size() == 289);
+  REQUIRE(trial.clamps.size() == 4);
+  // Clamps at distinct distances from their corners.
+  for (std::size_t a = 0; a < 4; ++a) {
+    for (std::size_t b = a + 1; b < 4; ++b) {
+      CHECK((trial.clamps[a].material_point_m - trial.clamps[b].material_point_m).norm() > 0.05);
+    }
+  }
+  for (const auto& pose : trial.stages[0].poses) CHECK(pose.engaged);
+  // Stages 2-4 each move exactly one clamp, up, by at most 350 mm; stage 5 releases one.
+  for (int s = 1; s <= 3; ++s) {
+    int moved = 0;
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 d = trial.stages[s].poses[c].position_m - trial.stages[s - 1].poses[c].position_m;
+      if (d.norm() > 1e-3) {
+        ++moved;
+        CHECK(d.norm() <= 0.35 + 1e-3);
+        CHECK(d.z() > 0.1);
+      }
+    }
+    CHECK(moved == 1);
+  }
+  int released = 0;
+  for (const auto& pose : trial.stages[4].poses) released += pose.engaged ? 0 : 1;
+  CHECK(released == 1);
+}
+
+TEST_CASE("lab markers carry the stated noise and are hidden under closed clamps", "[sim_hw][lab]") {
+  const LabTrial& lab = lab_trial();
+  const ScannerLabConfig config = small_lab(3);
+  double sum_sq = 0.0;
+  int seen = 0;
+  for (std::size_t s = 0; s < lab.trial.stages.size(); ++s) {
+    const auto& stage = lab.trial.stages[s];
+    for (std::size_t m = 0; m < stage.observed.markers_m.size(); ++m) {
+      const Vec3& o = stage.observed.markers_m[m];
+      bool under_clamp = false;
+      for (std::size_t c = 0; c < lab.trial.clamps.size(); ++c) {
+        under_clamp |= stage.poses[c].engaged &&
+                       (lab.trial.marker_uv_m[m] - lab.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m;
+      }
+      CHECK(o.allFinite() == !under_clamp);
+      if (!o.allFinite()) continue;
+      sum_sq += (o - lab.true_markers_m[s][m]).squaredNorm();
+      ++seen;
+    }
+  }
+  const double rms_per_axis = std::sqrt(sum_sq / (3.0 * seen));
+  CHECK(rms_per_axis == Approx(config.marker_noise_m).epsilon(0.05));
+  CHECK(seen < 5 * 289);  // some markers were hidden
+}
+
+TEST_CASE("the lab's sheet hangs from its clamps", "[sim_hw][lab]") {
+  const LabTrial& lab = lab_trial();
+  // The marker nearest each clamp's material point is near that clamp in the world, and the
+  // sheet sags below the clamps.
+  for (std::size_t s = 0; s < lab.trial.stages.size(); ++s) {
+    double lowest_marker = 1e9, lowest_clamp = 1e9;
+    for (const Vec3& p : lab.true_markers_m[s]) lowest_marker = std::min(lowest_marker, p.z());
+    for (std::size_t c = 0; c < lab.trial.clamps.size(); ++c) {
+      const auto& pose = lab.trial.stages[s].poses[c];
+      if (!pose.engaged) continue;
+      lowest_clamp = std::min(lowest_clamp, pose.position_m.z());
+      double nearest_uv = 1e9, world_distance = 0.0;
+      for (std::size_t m = 0; m < lab.trial.marker_uv_m.size(); ++m) {
+        const double d = (lab.trial.marker_uv_m[m] - lab.trial.clamps[c].material_point_m).norm();
+        if (d < nearest_uv) {
+          nearest_uv = d;
+          world_distance = (lab.true_markers_m[s][m] - pose.position_m).norm();
+        }
+      }
+      CHECK(world_distance <= nearest_uv * 1.05 + 1e-3);
+    }
+    CHECK(lowest_marker < lowest_clamp - 0.02);
+  }
+}
+
+TEST_CASE("the scanner lab is reproducible from its seed", "[sim_hw][lab]") {
+  ScannerLabConfig config = small_lab(3);
+  config.reference_triangles = 300;
+  const LabTrial a = make_lab_trial(config), b = make_lab_trial(config);
+  config.seed = 4;
+  const LabTrial c = make_lab_trial(config);
+  CHECK(a.trial.stages[2].observed.markers_m[100] == b.trial.stages[2].observed.markers_m[100]);
+  CHECK(a.scans_m[1] == b.scans_m[1]);
+  CHECK((a.trial.clamps[0].material_point_m - c.trial.clamps[0].material_point_m).norm() > 0.0);
+  CHECK(a.scans_m[1].size() > 40u * 200u);
+}
+
+}  // namespace
+}  // namespace sim_hw
