@@ -1,0 +1,84 @@
+// Names, get/set and scaling of the identifiable material parameters.
+
+#include "twin/material_parameters.h"
+
+#include <catch2/catch.hpp>
+#include <set>
+#include <string>
+
+namespace twin {
+namespace {
+
+Material orthotropic() {
+  Material m;
+  m.tensile_stiffness_u_N_m = 8000.0;
+  m.tensile_stiffness_v_N_m = 3000.0;
+  m.shear_stiffness_N_m = 1200.0;
+  m.bending_rigidity_u_Nm = 2e-3;
+  m.bending_rigidity_v_Nm = 1e-3;
+  m.surface_density_kg_m2 = 0.25;
+  return m;
+}
+
+TEST_CASE("material parameter names round-trip and are distinct", "[twin][material][sensitivity]") {
+  std::set<std::string> names;
+  for (MaterialParameter p : kAllMaterialParameters) {
+    CHECK(parse_material_parameter(parameter_name(p)) == p);
+    names.insert(std::string(parameter_name(p)));
+  }
+  CHECK(names.size() == kAllMaterialParameters.size());
+  CHECK(parameter_name(MaterialParameter::kTensile) == "tensile_N_m");
+  CHECK(parameter_name(MaterialParameter::kShear) == "shear_N_m");
+  CHECK(parameter_name(MaterialParameter::kBending) == "bending_Nm");
+}
+
+TEST_CASE("an unknown parameter name is rejected with the valid names",
+          "[twin][material][sensitivity]") {
+  try {
+    parse_material_parameter("youngs_modulus");
+    FAIL("expected std::invalid_argument");
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    CHECK(what.find("'youngs_modulus'") != std::string::npos);
+    for (MaterialParameter p : kAllMaterialParameters) {
+      CHECK(what.find(std::string(parameter_name(p))) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("get, set and scale address the right material fields", "[twin][material][sensitivity]") {
+  const Material base = orthotropic();
+  // Paired parameters read the u value and set both.
+  CHECK(get_parameter(base, MaterialParameter::kTensile) == 8000.0);
+  CHECK(get_parameter(base, MaterialParameter::kTensileV) == 3000.0);
+  CHECK(get_parameter(base, MaterialParameter::kBending) == 2e-3);
+  CHECK(get_parameter(base, MaterialParameter::kBendingV) == 1e-3);
+  CHECK(get_parameter(base, MaterialParameter::kShear) == 1200.0);
+  CHECK(get_parameter(base, MaterialParameter::kSurfaceDensity) == 0.25);
+
+  Material m = base;
+  set_parameter(m, MaterialParameter::kTensile, 5000.0);
+  CHECK(m.tensile_stiffness_u_N_m == 5000.0);
+  CHECK(m.tensile_stiffness_v_N_m == 5000.0);
+  set_parameter(m, MaterialParameter::kBendingV, 4e-3);
+  CHECK(m.bending_rigidity_u_Nm == 2e-3);
+  CHECK(m.bending_rigidity_v_Nm == 4e-3);
+  set_parameter(m, MaterialParameter::kSurfaceDensity, 0.5);
+  CHECK(m.surface_density_kg_m2 == 0.5);
+  CHECK(m.shear_stiffness_N_m == 1200.0);
+
+  // Scaling a pair keeps its ratio; scaling one field touches nothing else.
+  m = base;
+  scale_parameter(m, MaterialParameter::kTensile, 2.0);
+  CHECK(m.tensile_stiffness_u_N_m == 16000.0);
+  CHECK(m.tensile_stiffness_v_N_m == 6000.0);
+  scale_parameter(m, MaterialParameter::kBending, 0.5);
+  CHECK(m.bending_rigidity_u_Nm == 1e-3);
+  CHECK(m.bending_rigidity_v_Nm == 5e-4);
+  scale_parameter(m, MaterialParameter::kShear, 3.0);
+  CHECK(m.shear_stiffness_N_m == 3600.0);
+  CHECK(m.surface_density_kg_m2 == 0.25);
+}
+
+}  // namespace
+}  // namespace twin
