@@ -11,21 +11,17 @@ using twin::Vec3;
 
 ScannerLabConfig small_lab(std::uint64_t seed) {
   ScannerLabConfig config;
-  config.specimen = "cloth";
+  config.specimen = "composite";
   config.seed = seed;
-  config.reference_triangles = 800;  // coarse, for test speed; trials for identification use more
+  config.reference_triangles = 300;  // coarse, for test speed; trials for identification use more
   config.scan_points_per_marker = 40;
   return config;
 }
 
-// One lab trial, made once and shared by the checks below (a reference simulation is seconds).
-const LabTrial& lab_trial() {
-  static const LabTrial lab = make_lab_trial(small_lab(3));
-  return lab;
-}
 
-TEST_CASE("the scanner lab follows the paper's five-stage protocol", "[sim_hw][lab]") {
-  const LabTrial& lab = lab_trial();
+// One test case, so one reference simulation (tens of seconds) serves every check.
+TEST_CASE("the scanner lab follows the paper's protocol with stated noise and hidden markers", "[sim_hw][lab]") {
+  const LabTrial lab = make_lab_trial(small_lab(3));
   const twin::Trial& trial = lab.trial;
   REQUIRE(trial.stages.size() == 5);
   CHECK(trial.marker_uv_m.size() == 289);
@@ -53,10 +49,9 @@ TEST_CASE("the scanner lab follows the paper's five-stage protocol", "[sim_hw][l
   int released = 0;
   for (const auto& pose : trial.stages[4].poses) released += pose.engaged ? 0 : 1;
   CHECK(released == 1);
-}
 
-TEST_CASE("lab markers carry the stated noise and are hidden under closed clamps", "[sim_hw][lab]") {
-  const LabTrial& lab = lab_trial();
+  // Markers carry the stated noise and are hidden under closed clamps.
+  {
   const ScannerLabConfig config = small_lab(3);
   double sum_sq = 0.0;
   int seen = 0;
@@ -80,8 +75,9 @@ TEST_CASE("lab markers carry the stated noise and are hidden under closed clamps
   CHECK(seen < 5 * 289);  // some markers were hidden
 }
 
-TEST_CASE("the lab's sheet hangs from its clamps", "[sim_hw][lab]") {
-  const LabTrial& lab = lab_trial();
+  // The sheet hangs from its clamps.
+  {
+    const double edge_m = twin::edge_length_for_triangle_count(1.17, 0.975, small_lab(3).reference_triangles);
   // The marker nearest each clamp's material point is near that clamp in the world, and the
   // sheet sags below the clamps.
   for (std::size_t s = 0; s < lab.trial.stages.size(); ++s) {
@@ -99,15 +95,17 @@ TEST_CASE("the lab's sheet hangs from its clamps", "[sim_hw][lab]") {
           world_distance = (lab.true_markers_m[s][m] - pose.position_m).norm();
         }
       }
-      CHECK(world_distance <= nearest_uv * 1.05 + 1e-3);
+      // A clamp grips the vertex nearest its point on a coarse mesh, so allow one edge length.
+      CHECK(world_distance <= nearest_uv * 1.05 + edge_m);
     }
     CHECK(lowest_marker < lowest_clamp - 0.02);
   }
 }
+}
 
 TEST_CASE("the scanner lab is reproducible from its seed", "[sim_hw][lab]") {
   ScannerLabConfig config = small_lab(3);
-  config.reference_triangles = 300;
+  config.reference_triangles = 100;
   const LabTrial a = make_lab_trial(config), b = make_lab_trial(config);
   config.seed = 4;
   const LabTrial c = make_lab_trial(config);
