@@ -98,7 +98,8 @@ Vec3 marker_normal(const twin::MaterialPointLocation& at, const twin::VecX& x) {
 LabTrial make_lab_trial(const ScannerLabConfig& config) {
   LabTrial lab;
   lab.specimen = lab_specimen(config.specimen);
-  const twin::Material truth = config.material_override.value_or(lab.specimen.truth);
+  lab.truth = config.material_override.value_or(lab.specimen.truth);
+  const twin::Material& truth = lab.truth;
   const double w = lab.specimen.width_m, h = lab.specimen.height_m;
   std::mt19937_64 rng(config.seed);
 
@@ -199,9 +200,8 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
     }
   }
   std::filesystem::create_directories(truth_directory);
-  const twin::Material truth = config.material_override.value_or(lab.specimen.truth);
   twin::write_file_atomically(std::filesystem::path(truth_directory) / "material.json",
-                              [&](std::ostream& out) { out << twin::material_to_json(truth).dump(2) << "\n"; });
+                              [&](std::ostream& out) { out << twin::material_to_json(lab.truth).dump(2) << "\n"; });
   for (std::size_t s = 0; s < lab.true_markers_m.size(); ++s) {
     twin::write_xyz_file((std::filesystem::path(truth_directory) / (lab.trial.stages[s].id + "_true.xyz")).string(),
                          lab.true_markers_m[s]);

@@ -10,6 +10,7 @@
 // around each seen marker (see marker_scan.h). Everything random comes from the seed.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,7 @@ struct LabTrial {
   std::vector<std::vector<twin::Vec3>> scans_m;  // per stage, raw scan points (may be empty)
   // Truth, kept out of the trial directory:
   LabSpecimen specimen;
+  twin::Material truth;  // what the reference sheet was simulated with
   std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
   std::vector<twin::ClampPose> true_stage1_poses;
 };

@@ -1,7 +1,5 @@
 #include "tracking/xyz_io.h"
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -11,30 +9,17 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/temp_dir.h"
+
 namespace tracking {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test case, removed at the end; pid-qualified because CTest runs cases
-// as parallel processes.
-class TempDir {
+// Each test case's files go to a fresh directory of its own.
+class TempDir : public testing_support::TempDir {
  public:
-  TempDir() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() / ("tracking_xyz_io_test_" + std::to_string(::getpid()) +
-                                         "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
+  TempDir() : testing_support::TempDir("tracking_xyz_io_test") {}
 };
 
 std::vector<Vec3> parse(const std::string& text, bool allow_nan) {

@@ -1,6 +1,5 @@
 #include "twin/mesh_io.h"
-
-#include <unistd.h>
+#include "tests/support/temp_dir.h"
 
 #include <algorithm>
 #include <bit>
@@ -20,32 +19,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test case, removed at the end; pid-qualified because CTest runs cases
-// as parallel processes.
-class TempDir {
+// Each test case's files go to a fresh directory of its own.
+class TempDir : public testing_support::TempDir {
  public:
-  TempDir() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() /
-            ("twin_mesh_io_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
+  TempDir() : testing_support::TempDir("twin_mesh_io_test") {}
 };
 
-void write_file(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  REQUIRE(out.good());
-}
+void write_file(const fs::path& path, const std::string& bytes) { testing_support::write_file(path, bytes); }
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

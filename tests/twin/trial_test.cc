@@ -1,7 +1,5 @@
 #include "twin/trial.h"
 
-#include <unistd.h>
-
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -15,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twin/mesh_io.h"
+#include "tests/support/temp_dir.h"
 
 namespace twin {
 namespace {
@@ -24,33 +23,13 @@ using nlohmann::json;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// A fresh directory per test case, removed at the end; pid-qualified because CTest runs cases
-// as parallel processes.
-class TempDir {
+// Each test case's files go to a fresh directory of its own.
+class TempDir : public testing_support::TempDir {
  public:
-  TempDir() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() /
-            ("twin_trial_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
+  TempDir() : testing_support::TempDir("twin_trial_test") {}
 };
 
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  REQUIRE(out.good());
-}
+void write_text(const fs::path& path, const std::string& bytes) { testing_support::write_file(path, bytes); }
 
 std::string read_text(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
