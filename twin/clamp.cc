@@ -2,6 +2,7 @@
 
 #include "twin/material_point.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -45,7 +46,16 @@ Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
       nearest = i;
     }
   }
-  if (vertices_.empty()) vertices_.push_back(nearest);
+  if (spec.grip_radius_m == 0.0) {
+    vertices_ = {nearest};  // a pin: holds one vertex and lets the sheet turn about it
+  } else if (vertices_.size() < 3) {
+    // Jaws resist turning. On a mesh coarser than the jaws, fewer than three vertices fall
+    // inside the grip and the clamp would act as a pin; the host triangle keeps it a grip,
+    // so the same clamp behaves alike on coarse and fine meshes.
+    for (int v : host->vertices) {
+      if (std::find(vertices_.begin(), vertices_.end(), v) == vertices_.end()) vertices_.push_back(v);
+    }
+  }
   host_triangle_ = host->vertices;
   host_weights_ = host->weights;
   Mat2 edges;

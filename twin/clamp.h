@@ -2,8 +2,9 @@
 // Clamps: each grips a patch of the sheet and holds it at a world pose.
 //
 // A clamp is defined on the material: a point (u, v) (m) and a grip radius (m). It grips every
-// vertex within the radius of the point, or the single nearest vertex when the radius is zero
-// or smaller than the mesh spacing there. While engaged it holds the gripped patch rigidly in
+// vertex within the radius of the point, and at least the three vertices of the triangle
+// holding the point (jaws resist turning, also on a mesh coarser than the jaws); with radius
+// zero it is a pin that holds only the nearest vertex. While engaged it holds the gripped patch rigidly in
 // its rest shape: vertex i goes to  p + R (u_i - u_c, v_i - v_c, 0),  with p the clamp's world
 // position (m) and R its orientation (columns: world directions of the material u, v and the
 // sheet normal at the clamp). A released clamp holds nothing. Poses may change every step.

@@ -23,9 +23,8 @@ void summarise(StageError& e) {
 
 }  // namespace
 
-StageError nearest_vertex_error(const std::vector<Vec3>& observed_m, const VecX& x_predicted_m) {
-  StageError e;
-  e.per_point_m.assign(observed_m.size(), std::numeric_limits<double>::quiet_NaN());
+std::vector<int> nearest_vertices(const std::vector<Vec3>& observed_m, const VecX& x_predicted_m) {
+  std::vector<int> nearest(observed_m.size(), -1);
   const Eigen::Index n = x_predicted_m.size() / 3;
   // Brute force: a few hundred markers times a few thousand vertices is about a millisecond,
   // and the twin library stays free of spatial-index dependencies.
@@ -33,9 +32,22 @@ StageError nearest_vertex_error(const std::vector<Vec3>& observed_m, const VecX&
     if (!observed_m[i].allFinite()) continue;
     double best = std::numeric_limits<double>::infinity();
     for (Eigen::Index v = 0; v < n; ++v) {
-      best = std::min(best, (x_predicted_m.segment<3>(3 * v) - observed_m[i]).squaredNorm());
+      const double d2 = (x_predicted_m.segment<3>(3 * v) - observed_m[i]).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        nearest[i] = static_cast<int>(v);
+      }
     }
-    e.per_point_m[i] = std::sqrt(best);
+  }
+  return nearest;
+}
+
+StageError nearest_vertex_error(const std::vector<Vec3>& observed_m, const VecX& x_predicted_m) {
+  StageError e;
+  e.per_point_m.assign(observed_m.size(), std::numeric_limits<double>::quiet_NaN());
+  const std::vector<int> nearest = nearest_vertices(observed_m, x_predicted_m);
+  for (std::size_t i = 0; i < observed_m.size(); ++i) {
+    if (nearest[i] >= 0) e.per_point_m[i] = (x_predicted_m.segment<3>(3 * nearest[i]) - observed_m[i]).norm();
   }
   summarise(e);
   return e;

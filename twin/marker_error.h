@@ -26,6 +26,10 @@ struct StageError {
 // Algorithm 1: observed points (m; NaN rows skipped) against the vertices of x (3n, m).
 StageError nearest_vertex_error(const std::vector<Vec3>& observed_m, const VecX& x_predicted_m);
 
+// Index of the vertex of x nearest to each observed point (-1 for a NaN row): Algorithm 1's
+// pairing.
+std::vector<int> nearest_vertices(const std::vector<Vec3>& observed_m, const VecX& x_predicted_m);
+
 // Each observed marker against its predicted material point (same order; NaN rows skipped).
 // Throws std::invalid_argument when the counts differ.
 StageError correspondence_error(const std::vector<Vec3>& observed_m,

@@ -31,9 +31,10 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
   const VecX x_entry = x;
   // Increments after the first start from an equilibrium and can use the tangent predictor.
   bool at_equilibrium = false;
-  auto solve = [&](const std::vector<ClampPose>& poses) {
-    report.last = at_equilibrium ? statics_.solve_from_equilibrium(clamps_, poses, x, options.newton)
-                                 : statics_.solve(clamps_, poses, x, options.newton);
+  auto solve = [&](const std::vector<ClampPose>& poses, bool falls = false) {
+    report.last = falls            ? statics_.settle(clamps_, poses, x, options.newton)
+                  : at_equilibrium ? statics_.solve_from_equilibrium(clamps_, poses, x, options.newton)
+                                   : statics_.solve(clamps_, poses, x, options.newton);
     at_equilibrium = report.last.usable();
     report.newton_iterations += report.last.iterations;
     report.factorizations += report.last.factorizations;
@@ -55,7 +56,9 @@ ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
       released = true;
     }
   }
-  if (released && !solve(current)) return done(false);
+  // The sheet falls from where it hung: settle it (static_solver.h) rather than ask Newton to
+  // jump there, which stalls among the wrinkles of the fall.
+  if (released && !solve(current, /*falls=*/true)) return done(false);
   // A grip or a release changes which vertices are free; the predictor needs the same set.
   at_equilibrium = false;
 

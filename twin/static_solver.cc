@@ -1,6 +1,9 @@
 #include "twin/static_solver.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace twin {
 
@@ -20,7 +23,7 @@ NewtonOptions default_static_options() {
 }
 
 StaticSolver::StaticSolver(const ShellModel& model)
-    : model_(model), objective_(model.potential_terms()) {}
+    : model_(model), objective_(model.potential_terms()), proximal_(model.vertex_masses_kg(), 0.0) {}
 
 double free_weight_N(const ShellModel& model, const DofMap& dofs) {
   double sum = 0.0;
@@ -32,12 +35,91 @@ double free_weight_N(const ShellModel& model, const DofMap& dofs) {
 }
 
 SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampPose>& poses,
-                                VecX& x, const NewtonOptions& options) {
+                                VecX& x, const NewtonOptions& options, OnFailure on_failure) {
   const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
   VecX trial = x;
   clamps.hold(poses, trial);
   SolveReport report = newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), trial, options);
-  if (report.usable()) x.swap(trial);
+  if (report.usable()) {
+    x.swap(trial);
+    return report;
+  }
+  if (on_failure == OnFailure::kGiveUp) return report;
+  SolveReport settled = settle(clamps, poses, x, options);
+  settled.iterations += report.iterations;
+  settled.factorizations += report.factorizations;
+  settled.seconds += report.seconds;
+  return settled;
+}
+
+SolveReport StaticSolver::settle(const ClampSet& clamps, const std::vector<ClampPose>& poses,
+                                 VecX& x, const NewtonOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  const double force_scale_N = free_weight_N(model_, dofs);
+  VecX current = x;
+  clamps.hold(poses, current);
+  proximal_.set_masses(model_.vertex_masses_kg());  // the density may have changed
+  std::vector<const EnergyTerm*> terms = model_.potential_terms();
+  terms.push_back(&proximal_);
+  const Objective proximal_objective(std::move(terms));
+
+  // A proximal step only has to lower the energy; it need not be solved tightly.
+  NewtonOptions step_options = options;
+  step_options.max_iterations = 25;
+  step_options.residual_tolerance = 1e-5;
+  step_options.on_iteration = nullptr;
+  step_options.exact_hessian_below = std::numeric_limits<double>::infinity();
+  // The final polish from a settled shape needs few iterations; a stall costs little.
+  NewtonOptions polish_options = options;
+  polish_options.max_iterations = 40;
+
+  SolveReport report;
+  report.status = SolveStatus::kMaxIterations;
+  auto account = [&](const SolveReport& r) {
+    report.iterations += r.iterations;
+    report.factorizations += r.factorizations;
+    report.residual = r.residual;
+    report.energy_J = r.energy_J;
+  };
+  // tau (s): 20 ms lets a sheet at rest fall 2 mm in the first step.
+  double tau_s = 0.02;
+  constexpr double kShortestTau_s = 1e-4, kLongestTau_s = 1e3;
+  constexpr int kMaxSteps = 300;
+  int steps_until_polish = 0;  // after a failed polish, settle a little more first
+  for (int step = 0; step < kMaxSteps; ++step) {
+    proximal_.set_step(current, VecX::Zero(current.size()), tau_s);
+    VecX next = current;
+    const SolveReport r = settle_newton_.minimize(proximal_objective, dofs, force_scale_N, next, step_options);
+    account(r);
+    if (!r.usable()) {
+      tau_s /= 4.0;
+      if (tau_s < kShortestTau_s) {
+        report.status = r.status;
+        report.message = "settling stalled: " + r.message;
+        break;
+      }
+      continue;
+    }
+    const double largest_move_m = (next - current).cwiseAbs().maxCoeff();
+    current.swap(next);
+    if (r.iterations <= 6) tau_s = std::min(kLongestTau_s, 2.0 * tau_s);
+    // Nearly at rest, or steps so long that inertia hardly matters: try to finish with Newton.
+    if (--steps_until_polish <= 0 && (largest_move_m < 1e-3 || tau_s >= 1.0)) {
+      VecX polished = current;
+      const SolveReport p = newton_.minimize(objective_, dofs, force_scale_N, polished, polish_options);
+      account(p);
+      if (p.usable()) {
+        report.status = p.status;
+        report.message = p.message;
+        current.swap(polished);
+        break;
+      }
+      steps_until_polish = 4;
+    }
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (report.usable()) x.swap(current);
   return report;
 }
 

@@ -5,6 +5,7 @@
 // that follow a real motion should use quasi_static.h.
 
 #include "twin/clamp.h"
+#include "twin/inertia_term.h"
 #include "twin/newton_solver.h"
 #include "twin/shell_model.h"
 
@@ -22,9 +23,13 @@ class StaticSolver {
 
   // x (3n): the start. Clamped vertices are set to their held positions before solving. On
   // success x is the equilibrium; otherwise x is unchanged (clamped vertices included) and the
-  // report says why.
+  // report says why. When Newton from x fails (far from equilibrium, as after a clamp lets go
+  // of a hanging sheet, it can stall among wrinkles whose Hessian is indefinite), the sheet is
+  // settled instead: see settle() (unless on_failure says kGiveUp).
+  enum class OnFailure { kSettle, kGiveUp };
   SolveReport solve(const ClampSet& clamps, const std::vector<ClampPose>& poses, VecX& x,
-                    const NewtonOptions& options = default_static_options());
+                    const NewtonOptions& options = default_static_options(),
+                    OnFailure on_failure = OnFailure::kSettle);
 
   // As solve(), for x an equilibrium whose clamps have just moved to `poses` (same clamps
   // engaged): starts Newton from the first-order predicted equilibrium instead of from x with
@@ -32,10 +37,21 @@ class StaticSolver {
   SolveReport solve_from_equilibrium(const ClampSet& clamps, const std::vector<ClampPose>& poses,
                                      VecX& x, const NewtonOptions& options = default_static_options());
 
+  // Pseudo-transient continuation: a sequence of proximal steps, each the minimiser of
+  //   E(x) + sum_i m_i |x_i - x_k,i|^2 / (2 tau^2)
+  // (a backward-Euler step of length tau from rest), with tau growing while the steps are easy
+  // and shrinking when one fails, until plain Newton converges from the last step. Every step
+  // lowers the energy, so it reaches a stable equilibrium where Newton alone stalls; it is the
+  // way the real sheet got there (it fell and came to rest).
+  SolveReport settle(const ClampSet& clamps, const std::vector<ClampPose>& poses, VecX& x,
+                     const NewtonOptions& options = default_static_options());
+
  private:
   const ShellModel& model_;
   Objective objective_;
   NewtonSolver newton_;
+  InertiaTerm proximal_;
+  NewtonSolver settle_newton_;
 };
 
 }  // namespace twin

@@ -1,6 +1,7 @@
 // `twin`: command-line front end of the sheet twin.
 //   twin solve SCENARIO --out DIR      equilibrium at every stage of a scenario (PLY + summary)
 //   twin material FILE                 check a material file and print what the twin will use
+//   twin identify --train DIR... --out FILE   material parameters from scanned trials
 // Exit status: 0 success, 1 bad input (the message names the file and field), 2 a stage did
 // not converge (its result is not written; later stages are skipped because they depend on it).
 
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "identify_command.h"
 #include "twin/atomic_file.h"
 #include "twin/mesh_io.h"
 #include "twin/scenario.h"
@@ -143,11 +145,15 @@ int main(int argc, char** argv) {
   CLI::App* material_cmd = app.add_subcommand("material", "check a material file and show the values used");
   material_cmd->add_option("file", material, "material file (JSON)")->required();
 
+  twin_cli::IdentifyArguments identify;
+  CLI::App* identify_cmd = twin_cli::add_identify_command(app, identify);
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
     if (*solve_cmd) return solve(scenario, out_dir, verbose);
     if (*material_cmd) return describe_material(material);
+    if (*identify_cmd) return twin_cli::run_identify(identify);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

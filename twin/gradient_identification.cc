@@ -1,0 +1,112 @@
+// Identification by gradients: least squares on the markers, the gradient by adjoint solves
+// (trial_evaluator.h), NLopt LD_LBFGS in log-parameter space.
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <nlopt.hpp>
+
+#include "twin/identification.h"
+
+namespace twin {
+namespace {
+
+// The objective in mm^2 (mean squared residual per coordinate): values of order 1-100 keep
+// L-BFGS's tolerances meaningful.
+constexpr double kMm2PerM2 = 1e6;
+// For a material whose simulation fails: far above any sheet that hangs, with no slope, so
+// the line search backs off.
+constexpr double kFailedObjective_mm2 = 1e8;
+
+// Wide bounds (log space) that keep the simulator in a sane range: 1 N/m .. 1e7 N/m for
+// stiffnesses, 1e-8 .. 1 N*m for bending, 1e-3 .. 10 kg/m^2 for density.
+std::pair<double, double> sane_bounds(MaterialParameter p) {
+  switch (p) {
+    case MaterialParameter::kBending:
+    case MaterialParameter::kBendingU:
+    case MaterialParameter::kBendingV:
+      return {std::log(1e-8), std::log(1.0)};
+    case MaterialParameter::kSurfaceDensity:
+      return {std::log(1e-3), std::log(10.0)};
+    default:
+      return {std::log(1.0), std::log(1e7)};
+  }
+}
+
+}  // namespace
+
+IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int simulations_before = problem.simulations();
+  IdentificationResult result;
+  result.method = "ours: adjoint gradient + LD_LBFGS";
+  result.objective_name = "mean squared marker residual per coordinate (mm^2)";
+  const VecX x0 = options.start_log_values.value_or(problem.log_values_of(problem.base()));
+  const int P = static_cast<int>(x0.size());
+  std::vector<double> x(x0.data(), x0.data() + P), lower(P), upper(P);
+  for (int j = 0; j < P; ++j) {
+    std::tie(lower[j], upper[j]) = sane_bounds(problem.parameters()[j]);
+    x[j] = std::clamp(x[j], lower[j], upper[j]);
+  }
+  nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(P));
+  opt.set_lower_bounds(lower);
+  opt.set_upper_bounds(upper);
+  opt.set_maxeval(options.max_evaluations);
+  opt.set_xtol_abs(options.x_tolerance);
+  opt.set_ftol_rel(options.f_tolerance);
+  struct Context {
+    IdentificationProblem* problem;
+    IdentificationResult* result;
+    double best = std::numeric_limits<double>::infinity();
+    VecX best_x;
+  } context{&problem, &result, std::numeric_limits<double>::infinity(), VecX()};
+  opt.set_min_objective(
+      [](unsigned n, const double* v, double* grad, void* data) {
+        auto* c = static_cast<Context*>(data);
+        const VecX at = Eigen::Map<const VecX>(v, n);
+        const auto e = c->problem->evaluate(at, grad ? Derivatives::kGradient : Derivatives::kNone, 0.5);
+        ++c->result->evaluations;
+        if (!e.usable()) {
+          if (grad) std::fill(grad, grad + n, 0.0);
+          return kFailedObjective_mm2;
+        }
+        const double f = kMm2PerM2 * e.mean_square_m2;
+        if (grad) {
+          for (unsigned j = 0; j < n; ++j) grad[j] = kMm2PerM2 * e.log_gradient(j);
+        }
+        if (f < c->best) {
+          c->best = f;
+          c->best_x = at;
+        }
+        return f;
+      },
+      &context);
+  double value = std::numeric_limits<double>::infinity();
+  try {
+    const nlopt::result r = opt.optimize(x, value);
+    switch (r) {
+      case nlopt::XTOL_REACHED: result.stop_reason = "parameters converged"; break;
+      case nlopt::FTOL_REACHED: result.stop_reason = "objective converged"; break;
+      case nlopt::MAXEVAL_REACHED: result.stop_reason = "evaluation budget reached"; break;
+      default: result.stop_reason = fmt::format("NLopt result {}", static_cast<int>(r));
+    }
+  } catch (const std::exception& e) {
+    // L-BFGS gives up on round-off near the optimum; the best point seen is still the answer.
+    result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
+  }
+  if (context.best_x.size() == P) {
+    result.log_values = context.best_x;
+    result.objective = context.best;
+  } else {
+    result.log_values = Eigen::Map<const VecX>(x.data(), P);
+    result.objective = value;
+    result.stop_reason += "; no simulation succeeded";
+  }
+  result.material = problem.material_at(result.log_values);
+  result.simulations = problem.simulations() - simulations_before;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace twin

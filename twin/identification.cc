@@ -1,0 +1,117 @@
+#include "twin/identification.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+namespace twin {
+
+IdentificationProblem::IdentificationProblem(std::vector<TrialEvaluator*> training, Material base,
+                                             std::vector<MaterialParameter> parameters)
+    : training_(std::move(training)), base_(std::move(base)), parameters_(std::move(parameters)) {
+  if (training_.empty()) throw std::invalid_argument("identification needs at least one training trial");
+  if (parameters_.empty()) throw std::invalid_argument("identification needs at least one parameter to vary");
+}
+
+Material IdentificationProblem::material_at(const VecX& log_values) const {
+  Material m = base_;
+  for (std::size_t j = 0; j < parameters_.size(); ++j) set_parameter(m, parameters_[j], std::exp(log_values(j)));
+  return m;
+}
+
+VecX IdentificationProblem::log_values_of(const Material& material) const {
+  VecX v(static_cast<Eigen::Index>(parameters_.size()));
+  for (std::size_t j = 0; j < parameters_.size(); ++j) v(j) = std::log(get_parameter(material, parameters_[j]));
+  return v;
+}
+
+IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& log_values, Derivatives derivatives,
+                                                                  double max_weight) {
+  const auto start = std::chrono::steady_clock::now();
+  Evaluation e;
+  const Material material = material_at(log_values);
+  double sum_squares = 0.0;
+  std::vector<const TrialFit*> usable;
+  for (TrialEvaluator* trial : training_) {
+    e.fits.push_back(trial->evaluate(material, parameters_, derivatives));
+    ++simulations_;
+    const TrialFit& fit = e.fits.back();
+    if (!fit.usable()) {
+      e.failure = fmt::format("{}: {}", trial->trial().directory, fit.failure);
+      break;
+    }
+    e.nearest_score_m += fit.nearest_score_m(max_weight);
+    sum_squares += fit.sum_squares_m2;
+    e.residual_count += fit.residual_count;
+  }
+  if (e.usable() && e.residual_count > 0) {
+    e.mean_square_m2 = sum_squares / e.residual_count;
+    if (derivatives != Derivatives::kNone) {
+      e.log_gradient = VecX::Zero(log_values.size());
+      for (const TrialFit& fit : e.fits) e.log_gradient += fit.log_gradient / e.residual_count;
+    }
+    if (derivatives == Derivatives::kJacobian) {
+      e.log_jacobian.resize(e.residual_count, log_values.size());
+      e.residuals_m.resize(e.residual_count);
+      Eigen::Index row = 0;
+      for (const TrialFit& fit : e.fits) {
+        e.log_jacobian.middleRows(row, fit.residual_count) = fit.log_jacobian;
+        e.residuals_m.segment(row, fit.residual_count) = fit.residuals_m;
+        row += fit.residual_count;
+      }
+    }
+  } else if (e.usable()) {
+    e.failure = "no observation was scored (every marker hidden?)";
+  }
+  e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (on_evaluation) on_evaluation(log_values, e);
+  return e;
+}
+
+void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result) {
+  const IdentificationProblem::Evaluation e =
+      problem.evaluate(result.log_values, Derivatives::kJacobian, /*max_weight=*/0.5);
+  ++result.simulations;
+  result.estimates.clear();
+  const auto P = result.log_values.size();
+  for (Eigen::Index j = 0; j < P; ++j) {
+    ParameterEstimate est;
+    est.parameter = problem.parameters()[j];
+    est.value = std::exp(result.log_values(j));
+    est.lower95 = 0.0;
+    est.upper95 = std::numeric_limits<double>::infinity();
+    result.estimates.push_back(est);
+  }
+  if (!e.usable()) return;  // every parameter stays "not determined"
+  const double dof = std::max(1.0, static_cast<double>(e.residual_count - P));
+  const double sigma2 = e.residuals_m.squaredNorm() / dof;
+  result.noise_sigma_m = std::sqrt(sigma2);
+  const Eigen::MatrixXd fisher = e.log_jacobian.transpose() * e.log_jacobian;
+  // A parameter with no effect on the markers makes J^T J singular: its variance is infinite.
+  // The pseudo-inverse by eigen-decomposition keeps the determined ones finite.
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(fisher);
+  const double largest = eig.eigenvalues().cwiseAbs().maxCoeff();
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(P, P);
+  VecX unbounded = VecX::Zero(P);
+  for (Eigen::Index k = 0; k < P; ++k) {
+    const double lambda = eig.eigenvalues()(k);
+    const VecX v = eig.eigenvectors().col(k);
+    if (lambda > 1e-12 * largest && lambda > 0.0) {
+      covariance += sigma2 / lambda * v * v.transpose();
+    } else {
+      unbounded += v.cwiseAbs();  // directions the data do not see at all
+    }
+  }
+  for (Eigen::Index j = 0; j < P; ++j) {
+    ParameterEstimate& est = result.estimates[j];
+    if (unbounded(j) > 1e-3) continue;
+    const double half_width = 1.96 * std::sqrt(covariance(j, j));
+    est.lower95 = est.value * std::exp(-half_width);
+    est.upper95 = est.value * std::exp(half_width);
+    est.determined = half_width < std::log(ParameterEstimate::kDeterminedRatio);
+  }
+}
+
+}  // namespace twin

@@ -1,0 +1,117 @@
+#pragma once
+// Material identification from scanned trials (paper section 4.3), two ways:
+//   - the paper's: screen 27 candidate materials, bound the search around the best, and run
+//     NLopt's GN_ISRES (gradient-free, seeded) on Eq. 11, the sum over training stages of the
+//     Algorithm 1 error mean + w max (w = 2);
+//   - ours: least squares on the markers (trial_evaluator.h), with the gradient from one adjoint
+//     solve per stage, driving NLopt's LD_LBFGS in log-parameter space; then the Gauss-Newton
+//     (Fisher) covariance at the optimum gives 95 % intervals, and a parameter the data do not
+//     pin down is reported as not determined instead of as a number.
+// Both search in log space (stiffnesses span decades; a relative step means the same
+// everywhere) and vary only the chosen parameters; everything else (density from the trial's
+// mass, Poisson ratio, thickness) stays as in the base material.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "twin/trial_evaluator.h"
+
+namespace twin {
+
+class IdentificationProblem {
+ public:
+  // The evaluators are borrowed (one per training trial) and must outlive the problem.
+  IdentificationProblem(std::vector<TrialEvaluator*> training, Material base,
+                        std::vector<MaterialParameter> parameters);
+
+  const std::vector<MaterialParameter>& parameters() const { return parameters_; }
+  const Material& base() const { return base_; }
+  Material material_at(const VecX& log_values) const;
+  VecX log_values_of(const Material& material) const;
+
+  struct Evaluation {
+    std::string failure;                 // empty when every training trial simulated
+    bool usable() const { return failure.empty(); }
+    std::vector<TrialFit> fits;          // one per training trial
+    double nearest_score_m = 0.0;        // sum over stages of Algorithm 1 mean + w max (m)
+    double mean_square_m2 = 0.0;         // sum of squared residuals / their count (m^2)
+    int residual_count = 0;
+    VecX log_gradient;                   // d mean_square / d log p (m^2), when asked
+    Eigen::MatrixXd log_jacobian;        // stacked over trials, when asked (m)
+    VecX residuals_m;                    // stacked like the Jacobian
+    double seconds = 0.0;
+  };
+  Evaluation evaluate(const VecX& log_values, Derivatives derivatives, double max_weight);
+
+  // Trial simulations run so far (one per training trial per evaluation).
+  int simulations() const { return simulations_; }
+  // Called after every evaluation (progress output).
+  std::function<void(const VecX& log_values, const Evaluation&)> on_evaluation;
+
+ private:
+  std::vector<TrialEvaluator*> training_;
+  Material base_;
+  std::vector<MaterialParameter> parameters_;
+  int simulations_ = 0;
+};
+
+struct ParameterEstimate {
+  MaterialParameter parameter{};
+  double value = 0.0;                    // SI units (parameter_name says which)
+  double lower95 = 0.0, upper95 = 0.0;   // 95 % interval from the Fisher covariance
+  bool determined = false;               // interval narrower than a factor kDeterminedRatio
+  static constexpr double kDeterminedRatio = 2.0;  // upper95 / value and value / lower95 below it
+};
+
+struct IdentificationResult {
+  std::string method;
+  Material material;                     // base with the identified parameters
+  VecX log_values;
+  double objective = 0.0;                // the method's own objective at the result
+  std::string objective_name;
+  int evaluations = 0, simulations = 0;  // simulations: whole-trial simulations, screening included
+  double seconds = 0.0;
+  std::string stop_reason;
+  std::vector<ParameterEstimate> estimates;  // filled by estimate_uncertainty
+  double noise_sigma_m = 0.0;            // residual RMS per coordinate at the result
+};
+
+// --- the paper's method -------------------------------------------------------------------
+
+struct IsresOptions {
+  unsigned seed = 1;
+  int max_evaluations = 600;       // after screening
+  double max_weight = 2.0;         // Eq. 11
+  // Bounds around the best screening candidate, as the paper set them (its Sec. 4.3.2: best
+  // {5000, 5000, 0.001} -> [1000, 9000] for the stiffnesses and [0.0009, 0.0011] for bending).
+  double stiffness_lower = 0.2, stiffness_upper = 1.8;
+  double bending_lower = 0.9, bending_upper = 1.1;
+};
+
+// The 27 screening candidates of the paper: {500, 5000, 50000} N/m for tensile and shear,
+// {0.01, 0.001, 0.0001} N*m for bending. Requires the parameters to be exactly
+// {kTensile, kShear, kBending} (std::invalid_argument otherwise).
+std::vector<VecX> paper_screening_candidates(const IdentificationProblem& problem);
+
+IdentificationResult identify_isres(IdentificationProblem& problem, const IsresOptions& options);
+
+// --- gradients ----------------------------------------------------------------------------
+
+struct GradientOptions {
+  std::optional<VecX> start_log_values;  // default: log of the base material's values
+  int max_evaluations = 80;
+  double x_tolerance = 1e-3;             // in log p: a relative change of 0.1 % ends the search
+  double f_tolerance = 1e-7;             // relative change of the objective
+};
+
+IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options);
+
+// Gauss-Newton covariance sigma^2 (J^T J)^-1 in log space at log_values, with sigma^2 the
+// residual variance; fills result.estimates and result.noise_sigma_m. One more evaluation (with
+// tangents), counted in result.simulations. Residuals that are not independent noise (model
+// error) make these intervals too narrow: they are the data's limit, not the model's.
+void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result);
+
+}  // namespace twin

@@ -1,0 +1,31 @@
+#pragma once
+// `twin identify`: material parameters from scanned trials (README "Identification").
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace twin_cli {
+
+struct IdentifyArguments {
+  std::vector<std::string> train, test;
+  std::string out;                 // material file to write
+  std::string method = "gradient";  // gradient | paper | both
+  std::string parameters = "tensile_N_m,shear_N_m,bending_Nm";
+  std::string start;               // optional material file: start values and fixed properties
+  std::string residuals;           // optional directory for per-marker residual files
+  int triangles = 1500;
+  unsigned seed = 1;
+  int max_evaluations = 0;         // 0: the method's default
+  bool quiet = false;
+};
+
+// Adds the subcommand and its options to `app`; returns it (to test whether it was chosen).
+CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& arguments);
+
+// Runs it. Exit status: 0 done, 1 bad input (the message names file and field), 2 no
+// identification succeeded (nothing written).
+int run_identify(const IdentifyArguments& arguments);
+
+}  // namespace twin_cli

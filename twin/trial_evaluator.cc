@@ -1,0 +1,228 @@
+#include "twin/trial_evaluator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "twin/trial_simulation.h"
+
+namespace twin {
+namespace {
+
+VecX log_values(const Material& material, const std::vector<MaterialParameter>& parameters) {
+  VecX v(static_cast<Eigen::Index>(parameters.size()));
+  for (std::size_t j = 0; j < parameters.size(); ++j) v(j) = std::log(get_parameter(material, parameters[j]));
+  return v;
+}
+
+// One scored observation: which vertices predict it, with which weights.
+struct Pairing {
+  std::array<int, 3> vertices{};
+  Vec3 weights = Vec3::Zero();
+  Vec3 observed = Vec3::Zero();
+  Vec3 predicted(const VecX& x) const {
+    return weights(0) * x.segment<3>(3 * vertices[0]) + weights(1) * x.segment<3>(3 * vertices[1]) +
+           weights(2) * x.segment<3>(3 * vertices[2]);
+  }
+};
+
+std::vector<Pairing> pairings(const StageObservation& observed, const MaterialPointMap& markers, const VecX& x) {
+  std::vector<Pairing> result;
+  if (observed.has_markers()) {
+    for (std::size_t i = 0; i < observed.markers_m.size(); ++i) {
+      if (!observed.markers_m[i].allFinite()) continue;
+      const MaterialPointLocation& at = markers.location(static_cast<int>(i));
+      result.push_back({at.vertices, at.weights, observed.markers_m[i]});
+    }
+  } else {
+    const std::vector<int> nearest = nearest_vertices(observed.cloud_m, x);
+    for (std::size_t i = 0; i < nearest.size(); ++i) {
+      if (nearest[i] < 0) continue;
+      result.push_back({{nearest[i], nearest[i], nearest[i]}, Vec3(1.0, 0.0, 0.0), observed.cloud_m[i]});
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+double TrialFit::nearest_score_m(double max_weight) const {
+  double sum = 0.0;
+  for (const StageFit& s : stages) sum += s.nearest.score(max_weight);
+  return sum;
+}
+
+TrialEvaluator::TrialEvaluator(Trial trial, int twin_triangles, const Material& material)
+    : trial_(std::move(trial)),
+      model_(std::make_unique<ShellModel>(trial_sheet_mesh(trial_, twin_triangles), material)),
+      clamps_(model_->mesh(), trial_.clamps),
+      markers_(std::make_unique<MaterialPointMap>(model_->mesh(), trial_.marker_uv_m)),
+      placement_(fit_level_placement(trial_.clamps, trial_.stages.at(0).poses)),
+      statics_(std::make_unique<StaticSolver>(*model_)),
+      sensitivities_(trial_.stages.size()) {}
+
+TrialEvaluator::~TrialEvaluator() = default;
+
+std::vector<ClampPose> TrialEvaluator::stage_poses(int stage) const {
+  // As in simulate_stages: the jaws keep the orientation in which they closed on the level sheet.
+  std::vector<ClampPose> poses = trial_.stages[stage].poses;
+  for (ClampPose& p : poses) p.rotation = placement_.rotation;
+  return poses;
+}
+
+const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const VecX& log_parameters) const {
+  const CachedEquilibria* best = nullptr;
+  double best_distance = std::log(kWarmStartRatio);
+  for (const CachedEquilibria& c : cache_) {
+    if (c.log_parameters.size() != log_parameters.size()) continue;
+    const double d = (c.log_parameters - log_parameters).cwiseAbs().maxCoeff();
+    if (d <= best_distance) {
+      best_distance = d;
+      best = &c;
+    }
+  }
+  return best;
+}
+
+bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, TrialFit& fit) {
+  fit.stages.clear();
+  for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
+    VecX x = start.stage_x[s];
+    const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), x);
+    fit.newton_iterations += r.iterations;
+    if (!r.usable()) return false;
+    StageFit stage;
+    stage.id = trial_.stages[s].id;
+    stage.x = std::move(x);
+    fit.stages.push_back(std::move(stage));
+  }
+  return true;
+}
+
+bool TrialEvaluator::simulate_cold(TrialFit& fit) {
+  fit.stages.clear();
+  const TrialSimulation simulated = simulate_stages(*model_, clamps_, trial_.stages);
+  for (const StageSimulation& s : simulated.stages) fit.newton_iterations += s.report.newton_iterations;
+  if (!simulated.usable()) {
+    fit.failure = simulated.failure;
+    return false;
+  }
+  for (const StageSimulation& s : simulated.stages) {
+    StageFit stage;
+    stage.id = s.id;
+    stage.x = s.x;
+    fit.stages.push_back(std::move(stage));
+  }
+  return true;
+}
+
+void TrialEvaluator::score(TrialFit& fit) const {
+  std::vector<double> residuals;
+  for (std::size_t s = 0; s < fit.stages.size(); ++s) {
+    StageFit& stage = fit.stages[s];
+    const StageObservation& observed = trial_.stages[s].observed;
+    if (observed.has_markers()) {
+      stage.nearest = nearest_vertex_error(observed.markers_m, stage.x);
+      stage.predicted_markers_m = markers_->positions(stage.x);
+      stage.correspondence = correspondence_error(observed.markers_m, stage.predicted_markers_m);
+    } else {
+      stage.nearest = nearest_vertex_error(observed.cloud_m, stage.x);
+    }
+    for (const Pairing& p : pairings(observed, *markers_, stage.x)) {
+      const Vec3 r = p.predicted(stage.x) - p.observed;
+      residuals.insert(residuals.end(), {r.x(), r.y(), r.z()});
+    }
+  }
+  fit.residuals_m = Eigen::Map<const VecX>(residuals.data(), static_cast<Eigen::Index>(residuals.size()));
+  fit.residual_count = static_cast<int>(residuals.size());
+  fit.sum_squares_m2 = fit.residuals_m.squaredNorm();
+}
+
+void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
+                                   Derivatives derivatives) {
+  const auto P = static_cast<Eigen::Index>(parameters.size());
+  fit.log_gradient = VecX::Zero(P);
+  if (derivatives == Derivatives::kJacobian) fit.log_jacobian.setZero(fit.residual_count, P);
+  Eigen::Index row = 0;
+  for (std::size_t s = 0; s < fit.stages.size(); ++s) {
+    const StageFit& stage = fit.stages[s];
+    const std::vector<Pairing> paired = pairings(trial_.stages[s].observed, *markers_, stage.x);
+    if (paired.empty()) continue;
+    auto& sensitivity = sensitivities_[s];
+    if (!sensitivity) {
+      const DofMap dofs(clamps_.fixed_vertices(model_->vertex_count(), stage_poses(static_cast<int>(s))));
+      sensitivity = std::make_unique<EquilibriumSensitivity>(*model_, dofs, stage.x);
+    } else {
+      sensitivity->update(stage.x);
+    }
+    // dS/dx = 2 sum r_o (d p_o / d x).
+    VecX dS_dx = VecX::Zero(stage.x.size());
+    for (const Pairing& p : paired) {
+      const Vec3 r = p.predicted(stage.x) - p.observed;
+      for (int k = 0; k < 3; ++k) dS_dx.segment<3>(3 * p.vertices[k]) += 2.0 * p.weights(k) * r;
+    }
+    fit.log_gradient += sensitivity->log_adjoint_gradient(dS_dx, parameters);
+    if (derivatives == Derivatives::kJacobian) {
+      const Eigen::MatrixXd tangents = sensitivity->log_tangents(parameters);
+      for (const Pairing& p : paired) {
+        for (int k = 0; k < 3; ++k) {
+          fit.log_jacobian.middleRows(row, 3) += p.weights(k) * tangents.middleRows(3 * p.vertices[k], 3);
+        }
+        row += 3;
+      }
+    }
+  }
+}
+
+TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<MaterialParameter>& parameters,
+                                  Derivatives derivatives) {
+  const auto start = std::chrono::steady_clock::now();
+  TrialFit fit;
+  auto finish = [&]() {
+    fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return fit;
+  };
+  // The trial's own density (measured: mass / area), unless the density is being identified.
+  Material used = material;
+  const bool density_varied = std::find(parameters.begin(), parameters.end(), MaterialParameter::kSurfaceDensity) != parameters.end();
+  if (!density_varied && (trial_.mass_kg || trial_.surface_density_kg_m2)) {
+    used.surface_density_kg_m2 = trial_.density_kg_m2(model_->mesh().total_rest_area());
+  }
+  try {
+    model_->set_material(used);
+  } catch (const std::exception& e) {
+    fit.failure = e.what();
+    return finish();
+  }
+  const VecX log_parameters = log_values(material, parameters);
+  bool simulated = false;
+  if (const CachedEquilibria* cached = nearest_cached(log_parameters)) {
+    simulated = simulate_warm(*cached, fit);
+    fit.warm_started = simulated;
+  }
+  if (!simulated && !simulate_cold(fit)) {
+    if (fit.failure.empty()) fit.failure = "the simulation did not converge";
+    fit.stages.clear();
+    return finish();
+  }
+  score(fit);
+  if (derivatives != Derivatives::kNone) {
+    try {
+      differentiate(fit, parameters, derivatives);
+    } catch (const std::exception& e) {
+      fit.failure = fmt::format("derivatives: {}", e.what());
+      return finish();
+    }
+  }
+  CachedEquilibria entry{log_parameters, {}};
+  for (const StageFit& s : fit.stages) entry.stage_x.push_back(s.x);
+  constexpr std::size_t kCacheSize = 16;
+  if (cache_.size() == kCacheSize) cache_.erase(cache_.begin());
+  cache_.push_back(std::move(entry));
+  return finish();
+}
+
+}  // namespace twin

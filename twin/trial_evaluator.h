@@ -1,0 +1,113 @@
+#pragma once
+// One scanned trial as identification sees it: the twin simulates every stage for a candidate
+// material, compares with what was scanned, and (when asked) differentiates the misfit with
+// respect to material parameters through each stage's equilibrium (equilibrium_sensitivity.h).
+//
+// Misfits, per stage (marker_error.h): Algorithm 1 (nearest vertex) and, for marker stages, the
+// correspondence error. The smooth misfit that gradients are taken of is the least-squares sum
+//   S = sum over observations o of |p(o) - o|^2                                   (m^2)
+// with p(o) the prediction of marker o's own material point (marker stages) or, for a stage
+// seen as an unordered cloud, the vertex nearest to o (Algorithm 1's pairing, held fixed
+// while differentiating). Under independent Gaussian scanner noise, minimising S is maximum
+// likelihood, and its Jacobian gives the Fisher covariance of the estimate.
+//
+// Simulation: the first evaluation follows the trial's stages by quasi-static continuation from
+// the flat sheet (trial_simulation.h). Later evaluations start every stage from the equilibrium
+// of the nearest material evaluated before (within a factor kWarmStartRatio in every varied
+// parameter), which is continuation in the material instead of in the clamps and costs a few
+// Newton iterations; if any stage fails from there, the whole trial is re-simulated from flat.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "twin/clamp.h"
+#include "twin/equilibrium_sensitivity.h"
+#include "twin/marker_error.h"
+#include "twin/material_parameters.h"
+#include "twin/material_point.h"
+#include "twin/shell_model.h"
+#include "twin/static_solver.h"
+#include "twin/trial.h"
+
+namespace twin {
+
+struct StageFit {
+  std::string id;
+  VecX x;                                    // equilibrium positions (3n, m)
+  StageError nearest;                        // Algorithm 1
+  std::optional<StageError> correspondence;  // marker stages only
+  std::vector<Vec3> predicted_markers_m;     // per manifest marker (marker stages only)
+};
+
+enum class Derivatives { kNone, kGradient, kJacobian };
+
+struct TrialFit {
+  std::string failure;                 // empty when every stage reached an equilibrium
+  bool usable() const { return failure.empty(); }
+  std::vector<StageFit> stages;
+  double sum_squares_m2 = 0.0;         // S above
+  int residual_count = 0;              // scalar residuals in S (3 per observation)
+  VecX log_gradient;                   // dS/d log p_j (m^2), with Derivatives::kGradient or kJacobian
+  Eigen::MatrixXd log_jacobian;        // d r / d log p_j (m), residual_count x P, with kJacobian
+  VecX residuals_m;                    // r (residual_count), stacked like the Jacobian's rows
+  bool warm_started = false;
+  int newton_iterations = 0;
+  double seconds = 0.0;
+
+  // Paper's stage score summed over stages: sum of (mean + w max) of Algorithm 1 (m).
+  double nearest_score_m(double max_weight) const;
+};
+
+class TrialEvaluator {
+ public:
+  static constexpr double kWarmStartRatio = 4.0;
+
+  // Builds the twin of the trial's sheet with about `twin_triangles` triangles. Throws
+  // std::invalid_argument when markers or clamps are off the sheet or the material is invalid.
+  TrialEvaluator(Trial trial, int twin_triangles, const Material& material);
+  ~TrialEvaluator();
+  TrialEvaluator(const TrialEvaluator&) = delete;
+  TrialEvaluator& operator=(const TrialEvaluator&) = delete;
+
+  const Trial& trial() const { return trial_; }
+  const ShellModel& model() const { return *model_; }
+
+  // Simulates every stage with `material` and scores it. The surface density is the trial's
+  // (given, or mass / area) unless it is one of the varied parameters. `parameters` are the varied ones
+  // (for the warm-start cache and the derivatives). Never throws for numerical trouble: a
+  // stage that does not converge, or a Hessian that is not positive definite where derivatives
+  // were asked for, makes the fit unusable with the reason in `failure`.
+  TrialFit evaluate(const Material& material, const std::vector<MaterialParameter>& parameters,
+                    Derivatives derivatives = Derivatives::kNone);
+
+  // Forgets the equilibria of earlier evaluations: the next one starts from the flat sheet.
+  void clear_warm_starts() { cache_.clear(); }
+
+ private:
+  struct CachedEquilibria {
+    VecX log_parameters;
+    std::vector<VecX> stage_x;
+  };
+  const CachedEquilibria* nearest_cached(const VecX& log_parameters) const;
+  bool simulate_warm(const CachedEquilibria& start, TrialFit& fit);
+  bool simulate_cold(TrialFit& fit);
+  void score(TrialFit& fit) const;
+  void differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
+                     Derivatives derivatives);
+  std::vector<ClampPose> stage_poses(int stage) const;
+
+  Trial trial_;
+  std::unique_ptr<ShellModel> model_;
+  ClampSet clamps_;
+  std::unique_ptr<MaterialPointMap> markers_;
+  SheetPlacement placement_;
+  std::unique_ptr<StaticSolver> statics_;
+  std::vector<std::unique_ptr<EquilibriumSensitivity>> sensitivities_;  // per stage, reused
+  std::vector<CachedEquilibria> cache_;
+};
+
+}  // namespace twin
