@@ -1,5 +1,6 @@
 // Identification by gradients: least squares on the markers, the gradient by adjoint solves
 // (trial_evaluator.h), NLopt LD_LBFGS in log-parameter space.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -48,6 +49,8 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
   for (int j = 0; j < P; ++j) {
     std::tie(lower[j], upper[j]) = sane_bounds(problem.parameters()[j]);
     x[j] = std::clamp(x[j], lower[j], upper[j]);
+    lower[j] = std::max(lower[j], x[j] - std::log(options.search_ratio));
+    upper[j] = std::min(upper[j], x[j] + std::log(options.search_ratio));
   }
   nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(P));
   opt.set_lower_bounds(lower);
@@ -83,17 +86,42 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
       },
       &context);
   double value = std::numeric_limits<double>::infinity();
-  try {
-    const nlopt::result r = opt.optimize(x, value);
-    switch (r) {
-      case nlopt::XTOL_REACHED: result.stop_reason = "parameters converged"; break;
-      case nlopt::FTOL_REACHED: result.stop_reason = "objective converged"; break;
-      case nlopt::MAXEVAL_REACHED: result.stop_reason = "evaluation budget reached"; break;
-      default: result.stop_reason = fmt::format("NLopt result {}", static_cast<int>(r));
+  for (int round = 0;; ++round) {
+    try {
+      opt.set_maxeval(std::max(1, options.max_evaluations - result.evaluations));
+      const nlopt::result r = opt.optimize(x, value);
+      switch (r) {
+        case nlopt::XTOL_REACHED: result.stop_reason = "parameters converged"; break;
+        case nlopt::FTOL_REACHED: result.stop_reason = "objective converged"; break;
+        case nlopt::MAXEVAL_REACHED: result.stop_reason = "evaluation budget reached"; break;
+        default: result.stop_reason = fmt::format("NLopt result {}", static_cast<int>(r));
+      }
+    } catch (const std::exception& e) {
+      // L-BFGS gives up on round-off near the optimum; the best point seen is still the answer.
+      result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
     }
-  } catch (const std::exception& e) {
-    // L-BFGS gives up on round-off near the optimum; the best point seen is still the answer.
-    result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
+    if (round == options.max_restarts || context.best_x.size() != P ||
+        result.evaluations >= options.max_evaluations) {
+      break;
+    }
+    // Re-simulate from scratch at the best point: does a fresh choice of branches fit better?
+    const double before = context.best;
+    problem.forget_warm_starts();
+    const VecX at = context.best_x;
+    std::vector<double> g(P);
+    const double fresh = [&] {
+      const auto e = problem.evaluate(at, Derivatives::kNone, 0.5);
+      ++result.evaluations;
+      return e.usable() ? kMm2PerM2 * e.mean_square_m2 : kFailedObjective_mm2;
+    }();
+    if (fresh < context.best) {
+      context.best = fresh;
+      context.best_x = at;
+    }
+    if (!(fresh < (1.0 - options.restart_gain) * before)) break;
+    result.stop_reason += fmt::format("; restarted after a fresh simulation fitted better ({:.4g} -> {:.4g} mm^2)",
+                                      before, fresh);
+    x.assign(at.data(), at.data() + P);
   }
   if (context.best_x.size() == P) {
     result.log_values = context.best_x;
@@ -102,6 +130,12 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
     result.log_values = Eigen::Map<const VecX>(x.data(), P);
     result.objective = value;
     result.stop_reason += "; no simulation succeeded";
+  }
+  for (int j = 0; j < P; ++j) {
+    if (result.log_values(j) <= lower[j] + 1e-6 || result.log_values(j) >= upper[j] - 1e-6) {
+      result.stop_reason += fmt::format("; {} at the edge of the search range (x{:g} of the start): restart from there",
+                                        parameter_name(problem.parameters()[j]), options.search_ratio);
+    }
   }
   result.material = problem.material_at(result.log_values);
   result.simulations = problem.simulations() - simulations_before;

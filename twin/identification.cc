@@ -70,6 +70,10 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& lo
   return e;
 }
 
+void IdentificationProblem::forget_warm_starts() {
+  for (TrialEvaluator* t : training_) t->clear_warm_starts();
+}
+
 void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result) {
   const IdentificationProblem::Evaluation e =
       problem.evaluate(result.log_values, Derivatives::kJacobian, /*max_weight=*/0.5);

@@ -45,6 +45,10 @@ class IdentificationProblem {
   };
   Evaluation evaluate(const VecX& log_values, Derivatives derivatives, double max_weight);
 
+  // The next evaluation simulates every trial from flat and from its scans again (see
+  // trial_evaluator.h), instead of continuing the equilibria of earlier materials.
+  void forget_warm_starts();
+
   // Trial simulations run so far (one per training trial per evaluation).
   int simulations() const { return simulations_; }
   // Called after every evaluation (progress output).
@@ -102,8 +106,18 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
 struct GradientOptions {
   std::optional<VecX> start_log_values;  // default: log of the base material's values
   int max_evaluations = 80;
+  // The search stays within this factor of the start in every parameter (and within sane
+  // physical bounds). L-BFGS's first line searches otherwise try materials thousands of times
+  // off, whose simulations fail slowly. A result at this bound is reported in stop_reason.
+  double search_ratio = 20.0;
   double x_tolerance = 1e-3;             // in log p: a relative change of 0.1 % ends the search
   double f_tolerance = 1e-7;             // relative change of the objective
+  // After L-BFGS converges, the trials are re-simulated from scratch at the result: continuing
+  // equilibria through large material changes can leave a fold on a branch that the result's
+  // material would not choose. If that lowers the objective by more than restart_gain
+  // (relative), L-BFGS runs again from there; at most max_restarts times.
+  int max_restarts = 3;
+  double restart_gain = 0.01;
 };
 
 IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options);

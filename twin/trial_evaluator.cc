@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "twin/observed_shape.h"
+#include "twin/scan_tether.h"
 #include "twin/trial_simulation.h"
 
 namespace twin {
@@ -106,14 +108,32 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
   fit.stages.clear();
   const TrialSimulation simulated = simulate_stages(*model_, clamps_, trial_.stages);
   for (const StageSimulation& s : simulated.stages) fit.newton_iterations += s.report.newton_iterations;
-  if (!simulated.usable()) {
-    fit.failure = simulated.failure;
-    return false;
-  }
-  for (const StageSimulation& s : simulated.stages) {
+  for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
     StageFit stage;
-    stage.id = s.id;
-    stage.x = s.x;
+    stage.id = trial_.stages[s].id;
+    if (s < simulated.stages.size()) stage.x = simulated.stages[s].x;  // empty if that stage failed
+    // The same stage settled from its scanned shape: an equilibrium of the same material, in
+    // the basin the real sheet was seen in. Keep whichever of the two the markers are nearer.
+    const StageObservation& observed = trial_.stages[s].observed;
+    if (observed.has_markers() && observed.seen_marker_count() >= 3) {
+      VecX from_scan = shape_from_markers(model_->mesh(), trial_.marker_uv_m, observed.markers_m);
+      const SolveReport r = equilibrium_from_scan(*model_, clamps_, stage_poses(static_cast<int>(s)), *markers_,
+                                                  observed.markers_m, from_scan);
+      fit.newton_iterations += r.iterations;
+      if (r.usable()) {
+        const auto misfit = [&](const VecX& x) {
+          return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
+        };
+        if (stage.x.size() == 0 || misfit(from_scan) < misfit(stage.x)) {
+          stage.x = std::move(from_scan);
+          ++fit.stages_from_scan;
+        }
+      }
+    }
+    if (stage.x.size() == 0) {
+      fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;
+      return false;
+    }
     fit.stages.push_back(std::move(stage));
   }
   return true;

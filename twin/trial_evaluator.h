@@ -12,7 +12,11 @@
 // likelihood, and its Jacobian gives the Fisher covariance of the estimate.
 //
 // Simulation: the first evaluation follows the trial's stages by quasi-static continuation from
-// the flat sheet (trial_simulation.h). Later evaluations start every stage from the equilibrium
+// the flat sheet (trial_simulation.h), and also settles every marker stage from its scanned
+// shape (observed_shape.h); per stage it keeps the equilibrium nearer the markers. A slack
+// hanging sheet has many equilibria and the path from flat picks among them by tiny
+// differences (mesh, material: a 30 % stiffer bending can fold a corner the other way), so
+// the scan is what says which one the real sheet was in. Later evaluations start every stage from the equilibrium
 // of the nearest material evaluated before (within a factor kWarmStartRatio in every varied
 // parameter), which is continuation in the material instead of in the clamps and costs a few
 // Newton iterations; if any stage fails from there, the whole trial is re-simulated from flat.
@@ -55,6 +59,7 @@ struct TrialFit {
   Eigen::MatrixXd log_jacobian;        // d r / d log p_j (m), residual_count x P, with kJacobian
   VecX residuals_m;                    // r (residual_count), stacked like the Jacobian's rows
   bool warm_started = false;
+  int stages_from_scan = 0;            // cold start: stages whose equilibrium was found from the scan
   int newton_iterations = 0;
   double seconds = 0.0;
 

@@ -1,0 +1,82 @@
+#include "twin/scan_tether.h"
+
+#include <cmath>
+
+#include "twin/newton_solver.h"
+#include "twin/objective.h"
+#include "twin/static_solver.h"
+
+namespace twin {
+
+MarkerTetherTerm::MarkerTetherTerm(const MaterialPointMap& markers, const std::vector<Vec3>& observed_m,
+                                   int vertex_count) {
+  std::vector<int> vertices;
+  for (int m = 0; m < markers.size() && m < static_cast<int>(observed_m.size()); ++m) {
+    if (!observed_m[m].allFinite()) continue;
+    const MaterialPointLocation& at = markers.location(m);
+    vertices.insert(vertices.end(), at.vertices.begin(), at.vertices.end());
+    weights_.push_back(at.weights);
+    targets_m_.push_back(observed_m[m]);
+  }
+  set_elements(std::move(vertices), vertex_count);
+}
+
+double MarkerTetherTerm::element_energy(int e, const ElementVector& xe, ElementVector* g, ElementMatrix* h,
+                                        HessianMode) const {
+  const Vec3& w = weights_[e];
+  const Vec3 r = w(0) * xe.segment<3>(0) + w(1) * xe.segment<3>(3) + w(2) * xe.segment<3>(6) - targets_m_[e];
+  if (g) {
+    for (int a = 0; a < 3; ++a) g->segment<3>(3 * a) = k_N_m_ * w(a) * r;
+  }
+  if (h) {
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) h->block<3, 3>(3 * a, 3 * b) = k_N_m_ * w(a) * w(b) * Mat3::Identity();
+    }
+  }
+  return 0.5 * k_N_m_ * r.squaredNorm();
+}
+
+SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
+                                  const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
+                                  const std::vector<Vec3>& observed_m, VecX& x) {
+  const DofMap dofs(clamps.fixed_vertices(model.vertex_count(), poses));
+  const double force_scale_N = free_weight_N(model, dofs);
+  MarkerTetherTerm tether(markers, observed_m, model.vertex_count());
+  std::vector<const EnergyTerm*> terms = model.potential_terms();
+  terms.push_back(&tether);
+  const Objective tethered(terms);
+  NewtonSolver newton;
+  NewtonOptions options = default_static_options();
+  options.residual_tolerance = 1e-6;  // intermediate shapes need not be exact
+  VecX current = x;
+  clamps.hold(poses, current);
+  SolveReport total;
+  // Spring stiffness per marker, relative to the marker's share of the sheet's weight per metre
+  // of stretch: from "a 1 mm pull holds ten times its weight" down by factors of 10.
+  const double weight_per_marker_N = force_scale_N / std::sqrt(static_cast<double>(std::max(1, markers.size())));
+  for (double factor : {1e4, 1e3, 1e2, 1e1, 1.0, 0.1}) {
+    tether.set_stiffness(factor * weight_per_marker_N);
+    const SolveReport r = newton.minimize(tethered, dofs, force_scale_N, current, options);
+    total.iterations += r.iterations;
+    total.factorizations += r.factorizations;
+    total.seconds += r.seconds;
+    if (!r.usable()) {
+      total.status = r.status;
+      total.message = "tethered to the scan: " + r.message;
+      return total;
+    }
+  }
+  StaticSolver statics(model);
+  const SolveReport last = statics.solve(clamps, poses, current);
+  total.iterations += last.iterations;
+  total.factorizations += last.factorizations;
+  total.seconds += last.seconds;
+  total.status = last.status;
+  total.residual = last.residual;
+  total.energy_J = last.energy_J;
+  total.message = last.message;
+  if (total.usable()) x.swap(current);
+  return total;
+}
+
+}  // namespace twin

@@ -1,0 +1,44 @@
+#pragma once
+// An equilibrium in the basin of a scanned shape, found by letting go of the scan gradually.
+//
+// A slack hanging sheet has many equilibria (corners fold up or down, wrinkles sit left or
+// right). To find the one the real sheet was in, the sheet starts at its scanned shape
+// (observed_shape.h) with every seen marker tied to where it was seen by a spring, and is
+// solved to equilibrium while the springs are weakened step by step to nothing: a homotopy
+// from "shaped by the scan" to "shaped by its own mechanics" that never leaves the basin the
+// scan put it in. The last solve has no springs: the result is an equilibrium of the model.
+
+#include <vector>
+
+#include "twin/clamp.h"
+#include "twin/energy_term.h"
+#include "twin/material_point.h"
+#include "twin/shell_model.h"
+#include "twin/solve_report.h"
+
+namespace twin {
+
+// E = sum over seen markers of k/2 |p_m(x) - o_m|^2 (J), p_m the marker's material point in x,
+// o_m its observed position (m), k (N/m) the spring stiffness.
+class MarkerTetherTerm final : public ElementTerm<3> {
+ public:
+  MarkerTetherTerm(const MaterialPointMap& markers, const std::vector<Vec3>& observed_m, int vertex_count);
+  std::string_view name() const override { return "marker tether"; }
+  void set_stiffness(double k_N_m) { k_N_m_ = k_N_m; }
+
+ protected:
+  double element_energy(int e, const ElementVector& xe, ElementVector* g, ElementMatrix* h,
+                        HessianMode mode) const override;
+
+ private:
+  std::vector<Vec3> weights_, targets_m_;
+  double k_N_m_ = 0.0;
+};
+
+// x: on entry any start (the scanned shape, say); on success the equilibrium reached by the
+// homotopy. On failure x is unchanged.
+SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
+                                  const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
+                                  const std::vector<Vec3>& observed_m, VecX& x);
+
+}  // namespace twin
