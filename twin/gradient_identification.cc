@@ -45,6 +45,7 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
   result.objective_name = "mean squared marker residual per coordinate (mm^2)";
   const VecX x0 = options.start_log_values.value_or(problem.log_values_of(problem.base()));
   const int P = static_cast<int>(x0.size());
+  result.start_log_values = x0;
   std::vector<double> x(x0.data(), x0.data() + P), lower(P), upper(P);
   for (int j = 0; j < P; ++j) {
     std::tie(lower[j], upper[j]) = sane_bounds(problem.parameters()[j]);

@@ -73,6 +73,7 @@ struct IdentificationResult {
   std::string method;
   Material material;                     // base with the identified parameters
   VecX log_values;
+  VecX start_log_values;                 // where the search started (the best screening candidate)
   double objective = 0.0;                // the method's own objective at the result
   std::string objective_name;
   int evaluations = 0, simulations = 0;  // simulations: whole-trial simulations, screening included

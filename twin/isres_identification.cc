@@ -62,6 +62,7 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
     return result;
   }
 
+  result.start_log_values = best_x;
   // 2. Bounds around the best, as multiples of it.
   const int P = static_cast<int>(best_x.size());
   std::vector<double> lower(P), upper(P), x(P);

@@ -77,7 +77,7 @@ std::vector<ClampPose> TrialEvaluator::stage_poses(int stage) const {
 
 const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const VecX& log_parameters) const {
   const CachedEquilibria* best = nullptr;
-  double best_distance = std::log(kWarmStartRatio);
+  double best_distance = std::log(kMaterialStepRatio) * kMaxMaterialSteps;
   for (const CachedEquilibria& c : cache_) {
     if (c.log_parameters.size() != log_parameters.size()) continue;
     const double d = (c.log_parameters - log_parameters).cwiseAbs().maxCoeff();
@@ -89,16 +89,32 @@ const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const Vec
   return best;
 }
 
-bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, TrialFit& fit) {
+bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material& target,
+                                   const std::vector<MaterialParameter>& parameters, TrialFit& fit) {
+  const VecX from = start.log_parameters, to = log_values(target, parameters);
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil((to - from).cwiseAbs().maxCoeff() / std::log(kMaterialStepRatio) - 1e-9)));
+  std::vector<VecX> x = start.stage_x;
+  for (int k = 1; k <= steps; ++k) {
+    // Geometric interpolation of the varied parameters; the rest is the target's.
+    Material m = target;
+    const VecX at = from + (to - from) * (static_cast<double>(k) / steps);
+    for (std::size_t j = 0; j < parameters.size(); ++j) set_parameter(m, parameters[j], std::exp(at(j)));
+    model_->set_material(m);
+    for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
+      const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), x[s]);
+      fit.newton_iterations += r.iterations;
+      if (!r.usable()) {
+        model_->set_material(target);
+        return false;
+      }
+    }
+  }
   fit.stages.clear();
   for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
-    VecX x = start.stage_x[s];
-    const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), x);
-    fit.newton_iterations += r.iterations;
-    if (!r.usable()) return false;
     StageFit stage;
     stage.id = trial_.stages[s].id;
-    stage.x = std::move(x);
+    stage.x = std::move(x[s]);
     fit.stages.push_back(std::move(stage));
   }
   return true;
@@ -220,7 +236,7 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   const VecX log_parameters = log_values(material, parameters);
   bool simulated = false;
   if (const CachedEquilibria* cached = nearest_cached(log_parameters)) {
-    simulated = simulate_warm(*cached, fit);
+    simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
   }
   if (!simulated && !simulate_cold(fit)) {

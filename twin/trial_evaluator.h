@@ -17,9 +17,11 @@
 // hanging sheet has many equilibria and the path from flat picks among them by tiny
 // differences (mesh, material: a 30 % stiffer bending can fold a corner the other way), so
 // the scan is what says which one the real sheet was in. Later evaluations start every stage from the equilibrium
-// of the nearest material evaluated before (within a factor kWarmStartRatio in every varied
-// parameter), which is continuation in the material instead of in the clamps and costs a few
-// Newton iterations; if any stage fails from there, the whole trial is re-simulated from flat.
+// of the nearest material evaluated before and carry it to the new material in steps of at
+// most a factor kMaterialStepRatio in every varied parameter (continuation in the material
+// instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
+// stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
+// would be needed, the trial is simulated afresh.
 
 #include <memory>
 #include <optional>
@@ -69,7 +71,8 @@ struct TrialFit {
 
 class TrialEvaluator {
  public:
-  static constexpr double kWarmStartRatio = 4.0;
+  static constexpr double kMaterialStepRatio = 1.5;
+  static constexpr int kMaxMaterialSteps = 24;
 
   // Builds the twin of the trial's sheet with about `twin_triangles` triangles. Throws
   // std::invalid_argument when markers or clamps are off the sheet or the material is invalid.
@@ -98,7 +101,8 @@ class TrialEvaluator {
     std::vector<VecX> stage_x;
   };
   const CachedEquilibria* nearest_cached(const VecX& log_parameters) const;
-  bool simulate_warm(const CachedEquilibria& start, TrialFit& fit);
+  bool simulate_warm(const CachedEquilibria& start, const Material& target,
+                     const std::vector<MaterialParameter>& parameters, TrialFit& fit);
   bool simulate_cold(TrialFit& fit);
   void score(TrialFit& fit) const;
   void differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
