@@ -42,6 +42,8 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
   const int simulations_before = problem.simulations();
   IdentificationResult result;
   result.method = "ours: adjoint gradient + LD_LBFGS";
+  // Equilibria continued from another method's materials would carry its choice of branches.
+  problem.forget_warm_starts();
   result.objective_name = "mean squared marker residual per coordinate (mm^2)";
   const VecX x0 = options.start_log_values.value_or(problem.log_values_of(problem.base()));
   const int P = static_cast<int>(x0.size());

@@ -42,6 +42,8 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
   const int simulations_before = problem.simulations();
   IdentificationResult result;
   result.method = "paper: screening + GN_ISRES";
+  // Equilibria continued from another method's materials would carry its choice of branches.
+  problem.forget_warm_starts();
   result.objective_name = fmt::format("Eq. 11, sum of Algorithm 1 mean + {:g} max (m)", options.max_weight);
 
   // 1. Screening: every candidate from the flat sheet; failures removed; the best starts.

@@ -42,7 +42,8 @@ class StaticSolver {
   // (a backward-Euler step of length tau from rest), with tau growing while the steps are easy
   // and shrinking when one fails, until plain Newton converges from the last step. Every step
   // lowers the energy, so it reaches a stable equilibrium where Newton alone stalls; it is the
-  // way the real sheet got there (it fell and came to rest).
+  // way the real sheet got there (it fell and came to rest). Spends at most 20x the Newton
+  // iteration budget of `options` in all.
   SolveReport settle(const ClampSet& clamps, const std::vector<ClampPose>& poses, VecX& x,
                      const NewtonOptions& options = default_static_options());
 

@@ -1,0 +1,84 @@
+// The scan tether (twin/scan_tether.h): its energy term against finite differences, and the
+// homotopy ending at a true equilibrium of the untethered model.
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "tests/support/finite_difference.h"
+#include "tests/support/random_states.h"
+#include "twin/observed_shape.h"
+#include "twin/scan_tether.h"
+#include "twin/static_solver.h"
+
+namespace twin {
+namespace {
+
+TEST_CASE("the marker tether term matches finite differences", "[twin][energy]") {
+  const SheetMesh mesh = make_rectangular_sheet(0.3, 0.2, 0.05);
+  const std::vector<Vec2> uv = {{0.05, 0.05}, {0.17, 0.11}, {0.29, 0.19}, {0.1, 0.15}};
+  const MaterialPointMap markers(mesh, uv);
+  std::mt19937 rng(7);
+  const VecX x = testing::random_deformed(mesh.rest_uv, 0.2, 0.05, rng);
+  std::vector<Vec3> observed = markers.positions(x);
+  for (Vec3& o : observed) o += Vec3(0.01, -0.02, 0.005);
+  observed[3] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // not seen: no spring
+  MarkerTetherTerm tether(markers, observed, mesh.vertex_count());
+  tether.set_stiffness(3.0);
+  CHECK(tether.element_count() == 3);
+  const Objective objective({&tether});
+  const DofMap dofs(std::vector<char>(mesh.vertex_count(), 0));
+  auto pattern = std::make_shared<HessianPattern>(dofs, objective.stencils());
+  auto f = [&objective, pattern](const VecX& y, VecX* g, Eigen::MatrixXd* h) {
+    const double e = objective.evaluate(y, g, h ? pattern.get() : nullptr, HessianMode::kExact);
+    if (h) {
+      const Eigen::MatrixXd upper(pattern->matrix());
+      *h = upper.selfadjointView<Eigen::Upper>();
+    }
+    return e;
+  };
+  const testing::DerivativeErrors errors = testing::finite_difference_errors(f, x, 1e-7);
+  INFO(errors.report());
+  CHECK(errors.gradient < 1e-6);
+  CHECK(errors.hessian < 1e-6);
+  // Energy: k/2 sum |r|^2 over the three seen markers, each off by the same offset.
+  CHECK(objective.evaluate(x, nullptr, nullptr, HessianMode::kExact) ==
+        Approx(0.5 * 3.0 * 3 * Vec3(0.01, -0.02, 0.005).squaredNorm()));
+}
+
+TEST_CASE("equilibrium from a scan ends at an equilibrium of the model near the scan", "[twin][physics]") {
+  Material material;
+  material.surface_density_kg_m2 = 0.3;
+  material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 1e-3;
+  const ShellModel model(make_rectangular_sheet(0.6, 0.4, 0.04), material);
+  // Two clamps along one edge, 5 % closer than on the flat sheet: the sheet hangs in a curtain.
+  const ClampSet clamps(model.mesh(), {{"A", Vec2(0.02, 0.38), 0.015}, {"B", Vec2(0.58, 0.38), 0.015}});
+  SheetPlacement placement;
+  placement.origin_m = Vec3(0, 0, 1.0);
+  std::vector<ClampPose> poses(2);
+  poses[0].position_m = placement.to_world(Vec2(0.035, 0.38));
+  poses[1].position_m = placement.to_world(Vec2(0.565, 0.38));
+  VecX reference = place_flat(model.mesh(), placement);
+  StaticSolver statics(model);
+  REQUIRE(statics.solve(clamps, poses, reference).usable());
+
+  // "Scan" the reference: markers on a grid, 0.3 mm noise.
+  std::vector<Vec2> uv;
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 7; ++c) uv.push_back(Vec2(0.03 + c * 0.09, 0.03 + r * 0.08));
+  }
+  const MaterialPointMap markers(model.mesh(), uv);
+  std::vector<Vec3> observed = markers.positions(reference);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.3e-3);
+  for (Vec3& o : observed) o += Vec3(noise(rng), noise(rng), noise(rng));
+
+  VecX x = shape_from_markers(model.mesh(), uv, observed);
+  const SolveReport report = equilibrium_from_scan(model, clamps, poses, markers, observed, x);
+  INFO(report.brief());
+  REQUIRE(report.usable());
+  CHECK(report.residual < 1e-8);  // the last solve has no springs: an equilibrium of the model
+  // ... and the same one the scanned sheet was in.
+  CHECK((x - reference).cwiseAbs().maxCoeff() < 2e-3);
+}
+
+}  // namespace
+}  // namespace twin
