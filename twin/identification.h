@@ -111,8 +111,8 @@ struct GradientOptions {
   // physical bounds). L-BFGS's first line searches otherwise try materials thousands of times
   // off, whose simulations fail slowly. A result at this bound is reported in stop_reason.
   double search_ratio = 20.0;
-  double x_tolerance = 1e-3;             // in log p: a relative change of 0.1 % ends the search
-  double f_tolerance = 1e-7;             // relative change of the objective
+  double x_tolerance = 5e-3;             // in log p: a relative change of 0.5 % ends the search
+  double f_tolerance = 1e-5;             // relative change of the objective
   // After L-BFGS converges, the trials are re-simulated from scratch at the result: continuing
   // equilibria through large material changes can leave a fold on a branch that the result's
   // material would not choose. If that lowers the objective by more than restart_gain
