@@ -74,6 +74,31 @@ TEST_CASE("the adjoint gradient of the marker misfit matches finite differences"
   }
 }
 
+TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "[sim_hw][identification]") {
+  twin::Trial trial = lab_trial().trial;
+  // The released stage, as the paper saw it: points without marker identities, shuffled.
+  twin::StageObservation& last = trial.stages.back().observed;
+  for (const twin::Vec3& p : last.markers_m) {
+    if (p.allFinite()) last.cloud_m.push_back(p);
+  }
+  std::reverse(last.cloud_m.begin(), last.cloud_m.end());
+  const int points = static_cast<int>(last.cloud_m.size());
+  last.markers_m.clear();
+  twin::TrialEvaluator evaluator(trial, kTriangles, lab_trial().truth);
+  const twin::TrialFit fit = evaluator.evaluate(lab_trial().truth, kPaperParameters, twin::Derivatives::kGradient);
+  INFO(fit.failure);
+  REQUIRE(fit.usable());
+  const twin::StageFit& cloud_stage = fit.stages.back();
+  CHECK_FALSE(cloud_stage.correspondence.has_value());
+  CHECK(cloud_stage.nearest.points_used == points);
+  int marker_residuals = 0;
+  for (std::size_t s = 0; s + 1 < trial.stages.size(); ++s) marker_residuals += 3 * trial.stages[s].observed.seen_marker_count();
+  CHECK(fit.residual_count == marker_residuals + 3 * points);
+  // At the truth, the cloud's points lie within the mesh's nearest-vertex floor (half an edge).
+  CHECK(cloud_stage.nearest.mean_m < 0.05);
+  CHECK(fit.log_gradient.allFinite());
+}
+
 TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[sim_hw][identification]") {
   twin::TrialEvaluator evaluator(lab_trial().trial, kTriangles, lab_trial().truth);
   twin::IdentificationProblem problem({&evaluator}, start_material(1.5, 0.6, 1.6), kPaperParameters);
