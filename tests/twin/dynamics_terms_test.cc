@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "tests/support/finite_difference.h"
+#include "tests/support/term_check.h"
 #include "tests/support/random_states.h"
 #include "twin/inertia_term.h"
 #include "twin/newton_solver.h"
@@ -10,22 +10,6 @@
 
 namespace twin {
 namespace {
-
-// Checks a term's assembled gradient and Hessian (all vertices free) by finite differences.
-testing::DerivativeErrors check_term(const EnergyTerm& term, const VecX& x) {
-  const Objective objective({&term});
-  const DofMap dofs(std::vector<char>(x.size() / 3, 0));
-  auto pattern = std::make_shared<HessianPattern>(dofs, objective.stencils());
-  auto f = [&objective, pattern](const VecX& y, VecX* g, Eigen::MatrixXd* h) {
-    const double e = objective.evaluate(y, g, h ? pattern.get() : nullptr, HessianMode::kExact);
-    if (h) {
-      const Eigen::MatrixXd upper(pattern->matrix());
-      *h = upper.selfadjointView<Eigen::Upper>();
-    }
-    return e;
-  };
-  return testing::finite_difference_errors(f, x, 1e-7);
-}
 
 TEST_CASE("inertia and viscosity terms match finite differences", "[twin][energy]") {
   Material material;
@@ -45,7 +29,7 @@ TEST_CASE("inertia and viscosity terms match finite differences", "[twin][energy
 
   InertiaTerm inertia(model.vertex_masses_kg(), material.mass_damping_1_s);
   inertia.set_step(x0, v0, 0.01);
-  const auto inertia_errors = check_term(inertia, x);
+  const auto inertia_errors = testing::term_derivative_errors(inertia, x);
   INFO("inertia " << inertia_errors.report());
   CHECK(inertia_errors.gradient < 1e-6);
   CHECK(inertia_errors.hessian < 1e-6);
@@ -53,7 +37,7 @@ TEST_CASE("inertia and viscosity terms match finite differences", "[twin][energy
   ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(),
                           material.tensile_viscosity_Ns_m, material.shear_viscosity_Ns_m);
   viscosity.set_step(x0, 0.01);
-  const auto viscosity_errors = check_term(viscosity, x);
+  const auto viscosity_errors = testing::term_derivative_errors(viscosity, x);
   INFO("viscosity " << viscosity_errors.report());
   CHECK(viscosity_errors.gradient < 1e-6);
   CHECK(viscosity_errors.hessian < 1e-6);

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "tests/support/finite_difference.h"
+#include "tests/support/term_check.h"
 #include "tests/support/random_states.h"
 #include "twin/observed_shape.h"
 #include "twin/scan_tether.h"
@@ -24,23 +24,12 @@ TEST_CASE("the marker tether term matches finite differences", "[twin][energy]")
   MarkerTetherTerm tether(markers, observed, mesh.vertex_count());
   tether.set_stiffness(3.0);
   CHECK(tether.element_count() == 3);
-  const Objective objective({&tether});
-  const DofMap dofs(std::vector<char>(mesh.vertex_count(), 0));
-  auto pattern = std::make_shared<HessianPattern>(dofs, objective.stencils());
-  auto f = [&objective, pattern](const VecX& y, VecX* g, Eigen::MatrixXd* h) {
-    const double e = objective.evaluate(y, g, h ? pattern.get() : nullptr, HessianMode::kExact);
-    if (h) {
-      const Eigen::MatrixXd upper(pattern->matrix());
-      *h = upper.selfadjointView<Eigen::Upper>();
-    }
-    return e;
-  };
-  const testing::DerivativeErrors errors = testing::finite_difference_errors(f, x, 1e-7);
+  const testing::DerivativeErrors errors = testing::term_derivative_errors(tether, x);
   INFO(errors.report());
   CHECK(errors.gradient < 1e-6);
   CHECK(errors.hessian < 1e-6);
   // Energy: k/2 sum |r|^2 over the three seen markers, each off by the same offset.
-  CHECK(objective.evaluate(x, nullptr, nullptr, HessianMode::kExact) ==
+  CHECK(tether.evaluate(x, nullptr, nullptr, HessianMode::kExact) ==
         Approx(0.5 * 3.0 * 3 * Vec3(0.01, -0.02, 0.005).squaredNorm()));
 }
 
