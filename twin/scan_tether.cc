@@ -56,25 +56,14 @@ SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamp
   const double weight_per_marker_N = force_scale_N / std::sqrt(static_cast<double>(std::max(1, markers.size())));
   for (double factor : {1e4, 1e3, 1e2, 1e1, 1.0, 0.1}) {
     tether.set_stiffness(factor * weight_per_marker_N);
-    const SolveReport r = newton.minimize(tethered, dofs, force_scale_N, current, options);
-    total.iterations += r.iterations;
-    total.factorizations += r.factorizations;
-    total.seconds += r.seconds;
-    if (!r.usable()) {
-      total.status = r.status;
-      total.message = "tethered to the scan: " + r.message;
+    total.append(newton.minimize(tethered, dofs, force_scale_N, current, options));
+    if (!total.usable()) {
+      total.message = "tethered to the scan: " + total.message;
       return total;
     }
   }
   StaticSolver statics(model);
-  const SolveReport last = statics.solve(clamps, poses, current);
-  total.iterations += last.iterations;
-  total.factorizations += last.factorizations;
-  total.seconds += last.seconds;
-  total.status = last.status;
-  total.residual = last.residual;
-  total.energy_J = last.energy_J;
-  total.message = last.message;
+  total.append(statics.solve(clamps, poses, current));
   if (total.usable()) x.swap(current);
   return total;
 }

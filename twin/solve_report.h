@@ -29,6 +29,18 @@ struct SolveReport {
   double seconds = 0.0;
   std::string message;
 
+  // This solve followed by `later` (a retry, a fallback, the next phase): costs add up, the
+  // outcome is later's.
+  void append(const SolveReport& later) {
+    iterations += later.iterations;
+    factorizations += later.factorizations;
+    seconds += later.seconds;
+    status = later.status;
+    residual = later.residual;
+    energy_J = later.energy_J;
+    message = later.message;
+  }
+
   bool usable() const {
     return status == SolveStatus::kConverged || status == SolveStatus::kIterationBudget;
   }

@@ -45,11 +45,8 @@ SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampP
     return report;
   }
   if (on_failure == OnFailure::kGiveUp) return report;
-  SolveReport settled = settle(clamps, poses, x, options);
-  settled.iterations += report.iterations;
-  settled.factorizations += report.factorizations;
-  settled.seconds += report.seconds;
-  return settled;
+  report.append(settle(clamps, poses, x, options));
+  return report;
 }
 
 SolveReport StaticSolver::settle(const ClampSet& clamps, const std::vector<ClampPose>& poses,
@@ -142,14 +139,7 @@ SolveReport StaticSolver::solve_from_equilibrium(const ClampSet& clamps,
     // The prediction can overshoot where the response is strongly nonlinear (a fold snapping
     // through); the plain start is slower but safe.
     trial = moved;
-    const SolveReport plain = newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), trial, options);
-    report.iterations += plain.iterations;
-    report.factorizations += plain.factorizations;
-    report.seconds += plain.seconds;
-    report.status = plain.status;
-    report.residual = plain.residual;
-    report.energy_J = plain.energy_J;
-    report.message = plain.message;
+    report.append(newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), trial, options));
   }
   if (report.usable()) x.swap(trial);
   return report;
