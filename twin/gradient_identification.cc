@@ -109,11 +109,10 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
     }
     // Re-simulate from scratch at the best point: does a fresh choice of branches fit better?
     const double before = context.best;
-    problem.forget_warm_starts();
     const VecX at = context.best_x;
     std::vector<double> g(P);
     const double fresh = [&] {
-      const auto e = problem.evaluate(at, Derivatives::kNone, 0.5);
+      const auto e = problem.evaluate(at, Derivatives::kNone, 0.5, /*fresh=*/true);
       ++result.evaluations;
       return e.usable() ? kMm2PerM2 * e.mean_square_m2 : kFailedObjective_mm2;
     }();

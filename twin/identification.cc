@@ -28,14 +28,14 @@ VecX IdentificationProblem::log_values_of(const Material& material) const {
 }
 
 IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& log_values, Derivatives derivatives,
-                                                                  double max_weight) {
+                                                                  double max_weight, bool fresh) {
   const auto start = std::chrono::steady_clock::now();
   Evaluation e;
   const Material material = material_at(log_values);
   double sum_squares = 0.0;
   std::vector<const TrialFit*> usable;
   for (TrialEvaluator* trial : training_) {
-    e.fits.push_back(trial->evaluate(material, parameters_, derivatives));
+    e.fits.push_back(trial->evaluate(material, parameters_, derivatives, fresh));
     ++simulations_;
     const TrialFit& fit = e.fits.back();
     if (!fit.usable()) {

@@ -43,7 +43,8 @@ class IdentificationProblem {
     VecX residuals_m;                    // stacked like the Jacobian
     double seconds = 0.0;
   };
-  Evaluation evaluate(const VecX& log_values, Derivatives derivatives, double max_weight);
+  // fresh: see TrialEvaluator::evaluate.
+  Evaluation evaluate(const VecX& log_values, Derivatives derivatives, double max_weight, bool fresh = false);
 
   // The next evaluation simulates every trial from flat and from its scans again (see
   // trial_evaluator.h), instead of continuing the equilibria of earlier materials.

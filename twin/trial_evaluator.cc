@@ -81,7 +81,14 @@ const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const Vec
   for (const CachedEquilibria& c : cache_) {
     if (c.log_parameters.size() != log_parameters.size()) continue;
     const double d = (c.log_parameters - log_parameters).cwiseAbs().maxCoeff();
-    if (d <= best_distance) {
+    // The same material can be cached twice (continued, and simulated afresh) on different
+    // branches: prefer the one nearer the scans.
+    bool better = d <= best_distance;
+    if (best) {
+      const bool tie = std::abs(d - best_distance) <= 1e-12;
+      better = tie ? c.sum_squares_m2 < best->sum_squares_m2 : d < best_distance;
+    }
+    if (better) {
       best_distance = d;
       best = &c;
     }
@@ -214,7 +221,7 @@ void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialPara
 }
 
 TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<MaterialParameter>& parameters,
-                                  Derivatives derivatives) {
+                                  Derivatives derivatives, bool fresh) {
   const auto start = std::chrono::steady_clock::now();
   TrialFit fit;
   auto finish = [&]() {
@@ -235,7 +242,7 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   }
   const VecX log_parameters = log_values(material, parameters);
   bool simulated = false;
-  if (const CachedEquilibria* cached = nearest_cached(log_parameters)) {
+  if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(log_parameters)) {
     simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
   }
@@ -253,7 +260,7 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
       return finish();
     }
   }
-  CachedEquilibria entry{log_parameters, {}};
+  CachedEquilibria entry{log_parameters, fit.sum_squares_m2, {}};
   for (const StageFit& s : fit.stages) entry.stage_x.push_back(s.x);
   constexpr std::size_t kCacheSize = 16;
   if (cache_.size() == kCacheSize) cache_.erase(cache_.begin());

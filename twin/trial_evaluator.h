@@ -89,8 +89,10 @@ class TrialEvaluator {
   // (for the warm-start cache and the derivatives). Never throws for numerical trouble: a
   // stage that does not converge, or a Hessian that is not positive definite where derivatives
   // were asked for, makes the fit unusable with the reason in `failure`.
+  // fresh: simulate from flat and from the scans even if an equilibrium could be continued
+  // (the result joins the others; of two for the same material the better fit is continued).
   TrialFit evaluate(const Material& material, const std::vector<MaterialParameter>& parameters,
-                    Derivatives derivatives = Derivatives::kNone);
+                    Derivatives derivatives = Derivatives::kNone, bool fresh = false);
 
   // Forgets the equilibria of earlier evaluations: the next one starts from the flat sheet.
   void clear_warm_starts() { cache_.clear(); }
@@ -98,6 +100,7 @@ class TrialEvaluator {
  private:
   struct CachedEquilibria {
     VecX log_parameters;
+    double sum_squares_m2 = 0.0;  // their misfit: of equally near entries, the better fit starts
     std::vector<VecX> stage_x;
   };
   const CachedEquilibria* nearest_cached(const VecX& log_parameters) const;
