@@ -260,6 +260,12 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
       return finish();
     }
   }
+  if (fresh) {
+    // A fresh simulation that fits better than the equilibria continued to this material is on
+    // a better branch: continuing from the old ones nearby would carry the worse one on.
+    const CachedEquilibria* continued = nearest_cached(log_parameters);
+    if (continued && fit.sum_squares_m2 < continued->sum_squares_m2) cache_.clear();
+  }
   CachedEquilibria entry{log_parameters, fit.sum_squares_m2, {}};
   for (const StageFit& s : fit.stages) entry.stage_x.push_back(s.x);
   constexpr std::size_t kCacheSize = 16;

@@ -90,7 +90,8 @@ class TrialEvaluator {
   // stage that does not converge, or a Hessian that is not positive definite where derivatives
   // were asked for, makes the fit unusable with the reason in `failure`.
   // fresh: simulate from flat and from the scans even if an equilibrium could be continued
-  // (the result joins the others; of two for the same material the better fit is continued).
+  // (the result joins the others; of two for the same material the better fit is continued,
+  // and a fresh one that fits better replaces all earlier equilibria).
   TrialFit evaluate(const Material& material, const std::vector<MaterialParameter>& parameters,
                     Derivatives derivatives = Derivatives::kNone, bool fresh = false);
 
