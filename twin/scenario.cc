@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "twin/clamp_json.h"
 #include "twin/json_field.h"
 #include "twin/mesh_io.h"
 
@@ -65,14 +66,7 @@ void read_sheet(const JsonField& f, const std::string& base, Scenario& s) {
 
 void read_clamps(const JsonField& f, Scenario& s) {
   for (std::size_t i = 0; i < f.array_size(); ++i) {
-    const JsonField c = f[i];
-    c.only_keys({"id", "material_point_m", "grip_radius_m"});
-    ClampSpec spec;
-    spec.id = c["id"].string();
-    if (spec.id.empty()) c["id"].fail("must not be empty");
-    spec.material_point_m = c["material_point_m"].vec2("m");
-    if (auto r = c.optional("grip_radius_m")) spec.grip_radius_m = r->non_negative("m");
-    s.clamps.push_back(spec);
+    s.clamps.push_back(read_clamp_spec(f[i]));
   }
 }
 

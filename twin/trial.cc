@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twin/atomic_file.h"
+#include "twin/clamp_json.h"
 #include "twin/json_field.h"
 #include "twin/mesh_io.h"
 #include "twin/mesh_io_internal.h"
@@ -175,19 +176,14 @@ void read_clamps(const JsonField& f, const SheetRegion& region, Trial& t) {
   if (f.array_size() == 0) f.fail("must list at least one clamp");
   for (std::size_t i = 0; i < f.array_size(); ++i) {
     const JsonField c = f[i];
-    c.only_keys({"id", "material_point_m", "grip_radius_m"});
-    ClampSpec spec;
-    spec.id = c["id"].string();
-    if (spec.id.empty()) c["id"].fail("must not be empty");
+    const ClampSpec spec = read_clamp_spec(c);
     for (const ClampSpec& earlier : t.clamps) {
       if (earlier.id == spec.id) c["id"].fail("\"" + spec.id + "\" is used by an earlier clamp");
     }
-    spec.material_point_m = c["material_point_m"].vec2("m");
     if (!region.contains(spec.material_point_m)) {
       c["material_point_m"].fail(describe_uv(spec.material_point_m) + " is not on the sheet (" +
                                  region.describe() + ")");
     }
-    if (auto r = c.optional("grip_radius_m")) spec.grip_radius_m = r->non_negative("m");
     t.clamps.push_back(spec);
   }
 }
