@@ -1,0 +1,28 @@
+#include "drivers/depth_camera.h"
+
+namespace drivers {
+
+const char* to_string(ReadStatus status) {
+  switch (status) {
+    case ReadStatus::kFrame: return "frame";
+    case ReadStatus::kTimeout: return "timeout";
+    case ReadStatus::kStale: return "stale";
+    case ReadStatus::kFrozen: return "frozen";
+    case ReadStatus::kLost: return "lost";
+    case ReadStatus::kNotActive: return "not active";
+  }
+  return "?";
+}
+
+const char* to_string(CameraState state) {
+  switch (state) {
+    case CameraState::kUnconfigured: return "unconfigured";
+    case CameraState::kConfigured: return "configured";
+    case CameraState::kActive: return "active";
+    case CameraState::kDegraded: return "degraded";
+    case CameraState::kLost: return "lost";
+  }
+  return "?";
+}
+
+}  // namespace drivers
