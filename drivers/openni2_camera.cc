@@ -1,0 +1,420 @@
+#include "drivers/openni2_camera.h"
+
+#include <OpenNI.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "drivers/openni2_modes.h"
+#include "drivers/openni2_runtime.h"
+
+namespace drivers {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::int64_t host_now_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch())
+      .count();
+}
+
+// "path.oni?speed=X" -> path and speed; any other URI is passed to OpenNI2 unchanged.
+struct ParsedUri {
+  std::string device;
+  float playback_speed = -1.0f;  // OpenNI2 "manual": a frame per read, as fast as read
+};
+
+ParsedUri parse_uri(const std::string& uri) {
+  ParsedUri parsed{uri};
+  const auto query = uri.find("?speed=");
+  if (query != std::string::npos) {
+    parsed.device = uri.substr(0, query);
+    parsed.playback_speed = std::strtof(uri.c_str() + query + 7, nullptr);
+  }
+  return parsed;
+}
+
+struct ColorImage {
+  std::int64_t device_time_us = 0;
+  Intrinsics intrinsics;
+  std::vector<std::uint8_t> rgb;
+};
+
+constexpr std::size_t kColorHistory = 4;  // recent colour frames kept for timestamp pairing
+
+class OpenNI2Camera final : public DepthCamera,
+                            private openni::OpenNI::DeviceDisconnectedListener {
+ public:
+  ~OpenNI2Camera() override {
+    close_device();
+    if (listening_) openni::OpenNI::removeDeviceDisconnectedListener(this);
+  }
+
+  DriverResult configure(const CameraConfig& config) override {
+    if (active_) return DriverResult::failure(config_.name + ": configure() while active");
+    close_device();
+    config_ = config;
+    uri_ = parse_uri(config.uri);
+    if (uri_.device.empty()) {
+      return fail_configure("uri is empty (expected an OpenNI2 device URI, \"any\" or an .oni file)");
+    }
+    if (config.depth_mode.width <= 0 || config.depth_mode.height <= 0 || config.depth_mode.fps <= 0) {
+      return fail_configure("depth_mode must have positive width, height and fps");
+    }
+    if (!runtime_) runtime_ = std::make_unique<OpenNI2Runtime>();
+    if (!runtime_->ok()) return fail_configure(runtime_->message());
+    if (!listening_) {
+      listening_ = openni::OpenNI::addDeviceDisconnectedListener(this) == openni::STATUS_OK;
+    }
+    DriverResult opened = open_device();
+    if (!opened.ok) {
+      close_device();
+      return fail_configure(opened.message);
+    }
+    set_state(CameraState::kConfigured, "");
+    return DriverResult::success();
+  }
+
+  DriverResult activate() override {
+    if (!device_.isValid()) return DriverResult::failure(config_.name + ": activate() before configure()");
+    DriverResult started = start_streams();
+    if (!started.ok) return DriverResult::failure(config_.name + ": " + started.message);
+    active_ = true;
+    set_state(CameraState::kActive, "");
+    return DriverResult::success();
+  }
+
+  ReadStatus read(DepthFrame& frame) override {
+    if (!active_) return ReadStatus::kNotActive;
+    if (disconnected_ && !lost_) mark_lost("OpenNI2 reported the device disconnected");
+    if (lost_ && !try_reopen()) return ReadStatus::kLost;
+
+    const auto deadline = Clock::now() + config_.read_timeout;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+      openni::VideoStream* streams[2] = {&depth_, &color_};
+      int ready = -1;
+      const openni::Status rc = openni::OpenNI::waitForAnyStream(
+          streams, has_color_ ? 2 : 1, &ready, static_cast<int>(std::max<std::int64_t>(0, left.count())));
+      if (disconnected_) return lose("OpenNI2 reported the device disconnected");
+      if (rc == openni::STATUS_TIME_OUT) return timed_out();
+      if (rc != openni::STATUS_OK) return lose("waiting for frames failed: " + openni2_error_text());
+      if (ready == 1) {
+        if (!read_color()) return lose("reading a colour frame failed: " + openni2_error_text());
+        continue;
+      }
+      openni::VideoFrameRef ref;
+      if (depth_.readFrame(&ref) != openni::STATUS_OK) {
+        return lose("reading a depth frame failed: " + openni2_error_text());
+      }
+      return deliver(ref, frame);
+    }
+  }
+
+  CameraHealth health() const override {
+    std::lock_guard lock(health_mutex_);
+    return health_;
+  }
+
+  DriverResult deactivate() override {
+    if (active_) {
+      depth_.stop();
+      if (has_color_) color_.stop();
+    }
+    active_ = false;
+    set_state(device_.isValid() ? CameraState::kConfigured : CameraState::kUnconfigured, "");
+    return DriverResult::success();
+  }
+
+ private:
+  void onDeviceDisconnected(const openni::DeviceInfo* info) override {
+    std::lock_guard lock(uri_mutex_);
+    if (info != nullptr && device_uri_ == info->getUri()) disconnected_ = true;
+  }
+
+  DriverResult fail_configure(const std::string& why) {
+    set_state(CameraState::kUnconfigured, why);
+    return DriverResult::failure(config_.name + ": " + why);
+  }
+
+  DriverResult open_device() {
+    const bool any = uri_.device == "any";
+    if (device_.open(any ? openni::ANY_DEVICE : uri_.device.c_str()) != openni::STATUS_OK) {
+      return DriverResult::failure(fmt::format("cannot open OpenNI2 device \"{}\": {}", uri_.device,
+                                               openni2_error_text()));
+    }
+    {
+      std::lock_guard lock(uri_mutex_);
+      device_uri_ = device_.getDeviceInfo().getUri();
+      disconnected_ = false;
+    }
+    if (!config_.serial.empty()) {
+      char serial[ONI_MAX_STR] = {};
+      int size = sizeof(serial);
+      if (device_.getProperty(ONI_DEVICE_PROPERTY_SERIAL_NUMBER, serial, &size) != openni::STATUS_OK) {
+        return DriverResult::failure(fmt::format(
+            "device \"{}\" does not report a serial number (config expects \"{}\"): {}",
+            device_uri_, config_.serial, openni2_error_text()));
+      }
+      serial[sizeof(serial) - 1] = '\0';
+      if (config_.serial != serial) {
+        return DriverResult::failure(fmt::format(
+            "serial number mismatch on device \"{}\": the device reports \"{}\", the config expects \"{}\"",
+            device_uri_, serial, config_.serial));
+      }
+    }
+    if (!device_.hasSensor(openni::SENSOR_DEPTH)) {
+      return DriverResult::failure(fmt::format("device \"{}\" has no depth sensor", device_uri_));
+    }
+    if (depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+      return DriverResult::failure("cannot create the depth stream: " + openni2_error_text());
+    }
+    DriverResult mode = select_openni2_mode(depth_, config_.depth_mode,
+                                            openni::PIXEL_FORMAT_DEPTH_1_MM, "depth");
+    if (!mode.ok) return mode;
+    if (depth_.getMirroringEnabled()) depth_.setMirroringEnabled(false);
+    has_color_ = device_.hasSensor(openni::SENSOR_COLOR);
+    if (has_color_) {
+      if (color_.create(device_, openni::SENSOR_COLOR) != openni::STATUS_OK) {
+        return DriverResult::failure("cannot create the colour stream: " + openni2_error_text());
+      }
+      mode = select_openni2_mode(color_, config_.color_mode, openni::PIXEL_FORMAT_RGB888, "colour");
+      if (!mode.ok) return mode;
+      if (color_.getMirroringEnabled()) color_.setMirroringEnabled(false);
+    }
+    if (device_.getImageRegistrationMode() != openni::IMAGE_REGISTRATION_OFF &&
+        device_.setImageRegistrationMode(openni::IMAGE_REGISTRATION_OFF) != openni::STATUS_OK) {
+      return DriverResult::failure("cannot turn image registration off: " + openni2_error_text());
+    }
+    recording_frames_ = 0;
+    if (openni::PlaybackControl* playback = device_.getPlaybackControl()) {
+      if (playback->setSpeed(uri_.playback_speed) != openni::STATUS_OK ||
+          playback->setRepeatEnabled(false) != openni::STATUS_OK) {
+        return DriverResult::failure("cannot set playback speed/repeat: " + openni2_error_text());
+      }
+      recording_frames_ = playback->getNumberOfFrames(depth_);
+    }
+    last_sequence_ = 0;
+    last_device_time_us_ = -1;
+    last_depth_.clear();
+    identical_run_ = 0;
+    colors_.clear();
+    return DriverResult::success();
+  }
+
+  DriverResult start_streams() {
+    if (depth_.start() != openni::STATUS_OK) {
+      return DriverResult::failure("cannot start the depth stream: " + openni2_error_text());
+    }
+    if (has_color_ && color_.start() != openni::STATUS_OK) {
+      return DriverResult::failure("cannot start the colour stream: " + openni2_error_text());
+    }
+    return DriverResult::success();
+  }
+
+  void close_device() {
+    if (depth_.isValid()) {
+      depth_.stop();
+      depth_.destroy();
+    }
+    if (color_.isValid()) {
+      color_.stop();
+      color_.destroy();
+    }
+    if (device_.isValid()) device_.close();
+    has_color_ = false;
+  }
+
+  void mark_lost(const std::string& why) {
+    lost_ = true;
+    last_reopen_attempt_ = Clock::now();  // give the device a read_timeout before the first try
+    set_state(CameraState::kLost, why);
+  }
+
+  ReadStatus lose(const std::string& why) {
+    mark_lost(why);
+    return ReadStatus::kLost;
+  }
+
+  // Reopens at most once per read_timeout so a cyclic reader does not hammer a missing device.
+  bool try_reopen() {
+    const auto now = Clock::now();
+    if (now - last_reopen_attempt_ < config_.read_timeout) return false;
+    last_reopen_attempt_ = now;
+    std::string lost_reason;
+    {
+      std::lock_guard lock(health_mutex_);
+      ++health_.reopen_attempts;
+      lost_reason = health_.message;
+    }
+    close_device();
+    DriverResult result = open_device();
+    if (result.ok) result = start_streams();
+    if (!result.ok) {
+      close_device();
+      const auto cut = lost_reason.find("; reopen failed");
+      if (cut != std::string::npos) lost_reason.resize(cut);
+      set_state(CameraState::kLost, lost_reason + "; reopen failed: " + result.message);
+      return false;
+    }
+    lost_ = false;
+    {
+      std::lock_guard lock(health_mutex_);
+      ++health_.reopened;
+    }
+    set_state(CameraState::kActive, "");
+    return true;
+  }
+
+  ReadStatus timed_out() {
+    if (recording_frames_ > 0 && last_sequence_ >= static_cast<std::uint64_t>(recording_frames_)) {
+      set_state(CameraState::kDegraded,
+                fmt::format("end of recording {} after {} depth frames", uri_.device, recording_frames_));
+      return ReadStatus::kTimeout;
+    }
+    std::lock_guard lock(health_mutex_);
+    ++health_.timeouts;
+    return ReadStatus::kTimeout;
+  }
+
+  Intrinsics stream_intrinsics(const openni::VideoStream& stream, const Intrinsics& configured,
+                               int width, int height) const {
+    if (configured.width == width && configured.height == height) return configured;
+    return intrinsics_from_fov(width, height, stream.getHorizontalFieldOfView(),
+                               stream.getVerticalFieldOfView());
+  }
+
+  bool read_color() {
+    openni::VideoFrameRef ref;
+    if (color_.readFrame(&ref) != openni::STATUS_OK) return false;
+    ColorImage image;
+    image.device_time_us = static_cast<std::int64_t>(ref.getTimestamp());
+    image.intrinsics = stream_intrinsics(color_, config_.color_intrinsics, ref.getWidth(), ref.getHeight());
+    const int row_bytes = ref.getWidth() * 3;
+    image.rgb.resize(static_cast<std::size_t>(row_bytes) * ref.getHeight());
+    const auto* src = static_cast<const std::uint8_t*>(ref.getData());
+    for (int y = 0; y < ref.getHeight(); ++y) {
+      std::memcpy(image.rgb.data() + static_cast<std::size_t>(y) * row_bytes,
+                  src + static_cast<std::size_t>(y) * ref.getStrideInBytes(), row_bytes);
+    }
+    colors_.push_back(std::move(image));
+    if (colors_.size() > kColorHistory) colors_.pop_front();
+    return true;
+  }
+
+  // Takes the colour frames already waiting (without blocking) so pairing sees the newest.
+  void drain_color() {
+    if (!has_color_) return;
+    for (std::size_t i = 0; i < kColorHistory; ++i) {
+      openni::VideoStream* streams[1] = {&color_};
+      int ready = -1;
+      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, 0) != openni::STATUS_OK) return;
+      if (!read_color()) return;
+    }
+  }
+
+  ReadStatus deliver(const openni::VideoFrameRef& ref, DepthFrame& frame) {
+    const int width = ref.getWidth(), height = ref.getHeight();
+    frame.camera = config_.name;
+    frame.sequence = static_cast<std::uint64_t>(ref.getFrameIndex());
+    frame.device_time_us = static_cast<std::int64_t>(ref.getTimestamp());
+    frame.host_time_us = host_now_us();
+    frame.depth_intrinsics = stream_intrinsics(depth_, config_.depth_intrinsics, width, height);
+    frame.depth_mm.resize(static_cast<std::size_t>(width) * height);
+    const auto* src = static_cast<const std::uint8_t*>(ref.getData());
+    for (int y = 0; y < height; ++y) {
+      std::memcpy(frame.depth_mm.data() + static_cast<std::size_t>(y) * width,
+                  src + static_cast<std::size_t>(y) * ref.getStrideInBytes(),
+                  static_cast<std::size_t>(width) * sizeof(std::uint16_t));
+    }
+    frame.depth_to_color = config_.depth_to_color;
+    frame.camera_to_cell = config_.camera_to_cell;
+    drain_color();
+    const ColorImage* best = nullptr;
+    for (const ColorImage& image : colors_) {
+      if (best == nullptr || std::llabs(image.device_time_us - frame.device_time_us) <
+                                 std::llabs(best->device_time_us - frame.device_time_us)) {
+        best = &image;
+      }
+    }
+    frame.color_intrinsics = best != nullptr ? best->intrinsics : Intrinsics{};
+    frame.rgb = best != nullptr ? best->rgb : std::vector<std::uint8_t>{};
+    return classify(frame);
+  }
+
+  // Counts drops and flags frames whose clock did not advance (stale) or whose image repeats
+  // (frozen), as the interface asks.
+  ReadStatus classify(const DepthFrame& frame) {
+    std::lock_guard lock(health_mutex_);
+    if (last_sequence_ != 0 && frame.sequence > last_sequence_ + 1) {
+      health_.dropped += frame.sequence - last_sequence_ - 1;
+    }
+    const bool stale = last_device_time_us_ >= 0 && frame.device_time_us <= last_device_time_us_;
+    identical_run_ = (!last_depth_.empty() && last_depth_ == frame.depth_mm) ? identical_run_ + 1 : 0;
+    const bool frozen = identical_run_ + 1 >= config_.frozen_after_frames;
+    last_sequence_ = frame.sequence;
+    last_device_time_us_ = std::max(last_device_time_us_, frame.device_time_us);
+    last_depth_ = frame.depth_mm;
+    ++health_.frames;
+    health_.last_frame_host_time_us = frame.host_time_us;
+    if (stale) {
+      ++health_.stale;
+      health_.state = CameraState::kDegraded;
+      health_.message = fmt::format("stale frame {}: device time {} us did not advance", frame.sequence,
+                                    frame.device_time_us);
+      return ReadStatus::kStale;
+    }
+    if (frozen) {
+      ++health_.frozen;
+      health_.state = CameraState::kDegraded;
+      health_.message = fmt::format("frozen stream: {} identical depth images", identical_run_ + 1);
+      return ReadStatus::kFrozen;
+    }
+    health_.state = CameraState::kActive;
+    health_.message.clear();
+    return ReadStatus::kFrame;
+  }
+
+  void set_state(CameraState state, const std::string& message) {
+    std::lock_guard lock(health_mutex_);
+    health_.state = state;
+    health_.message = message;
+  }
+
+  CameraConfig config_;
+  ParsedUri uri_;
+  std::unique_ptr<OpenNI2Runtime> runtime_;  // declared before the OpenNI2 objects it outlives
+  bool listening_ = false;
+  openni::Device device_;
+  openni::VideoStream depth_, color_;
+  bool has_color_ = false;
+  bool active_ = false;
+  bool lost_ = false;
+  Clock::time_point last_reopen_attempt_{};
+  int recording_frames_ = 0;  // depth frames in the recording; 0 for a live device
+
+  std::mutex uri_mutex_;  // device_uri_ is read by OpenNI2's disconnect callback thread
+  std::string device_uri_;
+  std::atomic<bool> disconnected_{false};
+
+  std::deque<ColorImage> colors_;
+  std::uint64_t last_sequence_ = 0;
+  std::int64_t last_device_time_us_ = -1;
+  std::vector<std::uint16_t> last_depth_;
+  int identical_run_ = 0;
+
+  mutable std::mutex health_mutex_;
+  CameraHealth health_;
+};
+
+}  // namespace
+
+std::unique_ptr<DepthCamera> make_openni2_camera() { return std::make_unique<OpenNI2Camera>(); }
+
+}  // namespace drivers
