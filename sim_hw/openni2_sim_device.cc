@@ -1,0 +1,253 @@
+#include "sim_hw/openni2_sim_device.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace sim_hw {
+namespace {
+
+struct ModeSize {
+  int width, height;
+  std::vector<int> fps;
+};
+
+// The D415's depth (Z16) and colour (RGB8) modes, from its datasheet.
+const std::vector<ModeSize> kD415DepthModes = {
+    {1280, 720, {6, 15, 30}},        {848, 480, {6, 15, 30, 60, 90}}, {640, 480, {6, 15, 30, 60, 90}},
+    {640, 360, {6, 15, 30, 60, 90}}, {480, 270, {6, 15, 30, 60, 90}}, {424, 240, {6, 15, 30, 60, 90}}};
+const std::vector<ModeSize> kD415ColorModes = {
+    {1920, 1080, {6, 15, 30}},   {1280, 720, {6, 15, 30}},    {960, 540, {6, 15, 30, 60}},
+    {848, 480, {6, 15, 30, 60}}, {640, 480, {6, 15, 30, 60}}, {640, 360, {6, 15, 30, 60}},
+    {424, 240, {6, 15, 30, 60}}, {320, 240, {6, 30, 60}},     {320, 180, {6, 30, 60}}};
+
+OniVideoMode oni_mode(const drivers::StreamMode& m, OniPixelFormat format) {
+  OniVideoMode mode{};
+  mode.pixelFormat = format;
+  mode.resolutionX = m.width;
+  mode.resolutionY = m.height;
+  mode.fps = m.fps;
+  return mode;
+}
+
+// The datasheet modes plus the configured one (a source may run at a non-D415 mode in tests).
+std::vector<OniVideoMode> advertised(const std::vector<ModeSize>& sizes, const drivers::StreamMode& configured,
+                                     OniPixelFormat format) {
+  std::vector<OniVideoMode> modes{oni_mode(configured, format)};
+  for (const ModeSize& s : sizes) {
+    for (int fps : s.fps) {
+      if (s.width == configured.width && s.height == configured.height && fps == configured.fps) continue;
+      modes.push_back(oni_mode({s.width, s.height, fps}, format));
+    }
+  }
+  return modes;
+}
+
+// Intrinsics for a new resolution: calibrated ones scaled, or a D415-like 65 deg field of view.
+drivers::Intrinsics intrinsics_at(const drivers::Intrinsics& k, int width, int height) {
+  if (k.width == width && k.height == height) return k;
+  drivers::Intrinsics out = k;
+  out.width = width;
+  out.height = height;
+  if (k.width > 0 && k.height > 0 && k.fx > 0 && k.fy > 0) {
+    const double sx = double(width) / k.width, sy = double(height) / k.height;
+    out.fx = k.fx * sx;
+    out.fy = k.fy * sy;
+    out.cx = (k.cx + 0.5) * sx - 0.5;
+    out.cy = (k.cy + 0.5) * sy - 0.5;
+  } else {
+    out.fx = out.fy = 0.5 * width / std::tan(0.5 * 65.0 * M_PI / 180.0);
+    out.cx = 0.5 * (width - 1);
+    out.cy = 0.5 * (height - 1);
+  }
+  return out;
+}
+
+template <typename T>
+OniStatus put(void* data, int* size, const T& value) {
+  if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
+  std::memcpy(data, &value, sizeof(T));
+  return ONI_STATUS_OK;
+}
+
+OniStatus put_string(void* data, int* size, const std::string& text) {
+  if (*size < static_cast<int>(text.size()) + 1) return ONI_STATUS_BAD_PARAMETER;
+  std::memcpy(data, text.c_str(), text.size() + 1);
+  *size = static_cast<int>(text.size()) + 1;
+  return ONI_STATUS_OK;
+}
+
+}  // namespace
+
+OpenNI2SimDevice::OpenNI2SimDevice(const OpenNI2SimDeviceConfig& config,
+                                   std::unique_ptr<drivers::DepthCamera> source,
+                                   oni::driver::DriverServices& services, std::function<void()> on_lost)
+    : config_(config), source_(std::move(source)), services_(services), on_lost_(std::move(on_lost)) {
+  depth_modes_ = advertised(kD415DepthModes, config_.source.depth_mode, ONI_PIXEL_FORMAT_DEPTH_1_MM);
+  sensors_.push_back({ONI_SENSOR_DEPTH, static_cast<int>(depth_modes_.size()), depth_modes_.data()});
+  if (config_.has_color) {
+    color_modes_ = advertised(kD415ColorModes, config_.source.color_mode, ONI_PIXEL_FORMAT_RGB888);
+    sensors_.push_back({ONI_SENSOR_COLOR, static_cast<int>(color_modes_.size()), color_modes_.data()});
+  }
+}
+
+OpenNI2SimDevice::~OpenNI2SimDevice() {
+  stop_ = true;
+  if (pump_.joinable()) pump_.join();
+  std::lock_guard lock(source_mutex_);
+  source_->deactivate();
+}
+
+bool OpenNI2SimDevice::start_source() {
+  std::lock_guard lock(source_mutex_);
+  drivers::DriverResult r = source_->configure(config_.source);
+  if (r.ok) r = source_->activate();
+  if (!r.ok) {
+    services_.errorLoggerAppend("prepreg-sim: source camera of \"%s\" failed: %s",
+                                config_.source.name.c_str(), r.message.c_str());
+    return false;
+  }
+  if (!config_.on_demand && !pump_.joinable()) pump_ = std::thread([this] { pump_loop(); });
+  return true;
+}
+
+OniStatus OpenNI2SimDevice::getSensorInfoList(OniSensorInfo** sensors, int* count) {
+  *sensors = sensors_.data();
+  *count = static_cast<int>(sensors_.size());
+  return ONI_STATUS_OK;
+}
+
+oni::driver::StreamBase* OpenNI2SimDevice::createStream(OniSensorType sensor) {
+  if (sensor != ONI_SENSOR_DEPTH && !(sensor == ONI_SENSOR_COLOR && config_.has_color)) {
+    services_.errorLoggerAppend("prepreg-sim: device \"%s\" has no sensor of type %d",
+                                config_.source.name.c_str(), static_cast<int>(sensor));
+    return nullptr;
+  }
+  std::lock_guard source_lock(source_mutex_);
+  const bool depth = sensor == ONI_SENSOR_DEPTH;
+  const drivers::StreamMode& m = depth ? config_.source.depth_mode : config_.source.color_mode;
+  const drivers::Intrinsics& k = depth ? config_.source.depth_intrinsics : config_.source.color_intrinsics;
+  auto* stream = new OpenNI2SimStream(
+      sensor, depth ? depth_modes_ : color_modes_,
+      oni_mode(m, depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888), intrinsics_at(k, m.width, m.height),
+      [this, sensor](const OniVideoMode& mode) { return set_mode(sensor, mode); });
+  std::lock_guard lock(streams_mutex_);
+  streams_.push_back(stream);
+  return stream;
+}
+
+void OpenNI2SimDevice::destroyStream(oni::driver::StreamBase* stream) {
+  {
+    std::lock_guard lock(streams_mutex_);
+    streams_.erase(std::remove(streams_.begin(), streams_.end(), stream), streams_.end());
+  }
+  delete stream;
+}
+
+bool OpenNI2SimDevice::set_mode(OniSensorType sensor, const OniVideoMode& mode) {
+  std::lock_guard lock(source_mutex_);
+  drivers::CameraConfig changed = config_.source;
+  drivers::StreamMode& m = sensor == ONI_SENSOR_DEPTH ? changed.depth_mode : changed.color_mode;
+  drivers::Intrinsics& k = sensor == ONI_SENSOR_DEPTH ? changed.depth_intrinsics : changed.color_intrinsics;
+  m = {mode.resolutionX, mode.resolutionY, mode.fps};
+  k = intrinsics_at(k, m.width, m.height);
+  source_->deactivate();
+  drivers::DriverResult r = source_->configure(changed);
+  if (r.ok) r = source_->activate();
+  if (!r.ok) {
+    services_.errorLoggerAppend("prepreg-sim: source camera of \"%s\" refused %dx%d@%d: %s",
+                                config_.source.name.c_str(), m.width, m.height, m.fps, r.message.c_str());
+    // Put the source back in its previous mode so the device stays usable.
+    if (source_->configure(config_.source).ok) source_->activate();
+    return false;
+  }
+  config_.source = changed;
+  std::lock_guard streams_lock(streams_mutex_);
+  for (OpenNI2SimStream* s : streams_) {
+    if (s->sensor() == sensor) s->set_current(mode, k);
+  }
+  return true;
+}
+
+OniBool OpenNI2SimDevice::isPropertySupported(int property) {
+  switch (property) {
+    case ONI_DEVICE_PROPERTY_SERIAL_NUMBER: return !config_.source.serial.empty();
+    case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION:
+    case ONI_DEVICE_PROPERTY_DRIVER_VERSION:
+    case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION: return TRUE;
+    default: return FALSE;
+  }
+}
+
+OniStatus OpenNI2SimDevice::getProperty(int property, void* data, int* size) {
+  switch (property) {
+    case ONI_DEVICE_PROPERTY_SERIAL_NUMBER:
+      if (config_.source.serial.empty()) return ONI_STATUS_NOT_SUPPORTED;
+      return put_string(data, size, config_.source.serial);
+    case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION: return put_string(data, size, "prepreg-sim");
+    case ONI_DEVICE_PROPERTY_DRIVER_VERSION: return put(data, size, OniVersion{1, 0, 0, 0});
+    // Registration is done by the reader through depth_to_color, never in the device.
+    case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION:
+      return put(data, size, static_cast<int>(ONI_IMAGE_REGISTRATION_OFF));
+    default: return ONI_STATUS_NOT_SUPPORTED;
+  }
+}
+
+OniStatus OpenNI2SimDevice::setProperty(int property, const void* data, int size) {
+  if (property == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION && size == static_cast<int>(sizeof(int))) {
+    return *static_cast<const int*>(data) == ONI_IMAGE_REGISTRATION_OFF ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
+  }
+  return ONI_STATUS_NOT_SUPPORTED;
+}
+
+OniStatus OpenNI2SimDevice::tryManualTrigger() {
+  if (config_.on_demand) pump_once();
+  return ONI_STATUS_OK;
+}
+
+void OpenNI2SimDevice::pump_loop() {
+  using Clock = std::chrono::steady_clock;
+  auto next = Clock::now();
+  while (!stop_ && !lost_) {
+    bool any_running = false;
+    {
+      std::lock_guard lock(streams_mutex_);
+      for (OpenNI2SimStream* s : streams_) any_running = any_running || s->running();
+    }
+    if (!any_running) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      next = Clock::now();
+      continue;
+    }
+    pump_once();
+    int fps = 30;
+    {
+      std::lock_guard lock(source_mutex_);
+      fps = std::max(1, config_.source.depth_mode.fps);
+    }
+    next += std::chrono::microseconds(1000000 / fps);
+    std::this_thread::sleep_until(next);
+  }
+}
+
+void OpenNI2SimDevice::pump_once() {
+  if (lost_) return;
+  {
+    std::lock_guard lock(source_mutex_);
+    const drivers::ReadStatus status = source_->read(frame_);
+    if (status == drivers::ReadStatus::kFrame || status == drivers::ReadStatus::kStale ||
+        status == drivers::ReadStatus::kFrozen) {
+      // Stale and frozen frames too: a real device delivers them just the same.
+      std::lock_guard streams_lock(streams_mutex_);
+      for (OpenNI2SimStream* s : streams_) s->push(frame_);
+      return;
+    }
+    if (status != drivers::ReadStatus::kLost) return;  // timeout: nothing this time
+  }
+  // Outside the lock: OpenNI2 runs its disconnect listeners inside this call.
+  if (!lost_.exchange(true)) on_lost_();
+}
+
+}  // namespace sim_hw
