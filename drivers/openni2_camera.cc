@@ -113,7 +113,7 @@ class OpenNI2Camera final : public DepthCamera,
       if (depth_.readFrame(&ref) != openni::STATUS_OK) {
         return lose("reading a depth frame failed: " + openni2_error_text());
       }
-      return deliver(ref, frame);
+      return deliver(ref, frame, deadline);
     }
   }
 
@@ -308,18 +308,27 @@ class OpenNI2Camera final : public DepthCamera,
     return true;
   }
 
-  // Takes the colour frames already waiting (without blocking) so pairing sees the newest.
-  void drain_color() {
+  // Reads colour until one is at least as new as the depth frame, so pairing sees the colour
+  // taken with it. Waits at most one colour frame period (and never past the read deadline): a
+  // colour frame that has not come by then is late, and the nearest older one is used.
+  void catch_up_color(std::int64_t depth_time_us, Clock::time_point deadline) {
     if (!has_color_) return;
+    const auto period = std::chrono::milliseconds(1000 / std::max(1, config_.color_mode.fps) + 1);
+    deadline = std::min(deadline, Clock::now() + period);
     for (std::size_t i = 0; i < kColorHistory; ++i) {
+      if (!colors_.empty() && colors_.back().device_time_us >= depth_time_us) return;
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
       openni::VideoStream* streams[1] = {&color_};
       int ready = -1;
-      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, 0) != openni::STATUS_OK) return;
+      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, static_cast<int>(std::max<std::int64_t>(0, left.count()))) !=
+          openni::STATUS_OK) {
+        return;
+      }
       if (!read_color()) return;
     }
   }
 
-  ReadStatus deliver(const openni::VideoFrameRef& ref, DepthFrame& frame) {
+  ReadStatus deliver(const openni::VideoFrameRef& ref, DepthFrame& frame, Clock::time_point deadline) {
     const int width = ref.getWidth(), height = ref.getHeight();
     frame.camera = config_.name;
     frame.sequence = static_cast<std::uint64_t>(ref.getFrameIndex());
@@ -335,7 +344,7 @@ class OpenNI2Camera final : public DepthCamera,
     }
     frame.depth_to_color = config_.depth_to_color;
     frame.camera_to_cell = config_.camera_to_cell;
-    drain_color();
+    catch_up_color(frame.device_time_us, deadline);
     const ColorImage* best = nullptr;
     for (const ColorImage& image : colors_) {
       if (best == nullptr || std::llabs(image.device_time_us - frame.device_time_us) <

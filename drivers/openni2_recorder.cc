@@ -2,7 +2,9 @@
 
 #include <OpenNI.h>
 
+#include <chrono>
 #include <cstring>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -11,6 +13,8 @@
 
 namespace drivers {
 namespace {
+
+constexpr std::chrono::milliseconds kRecorderStartDelay{100};
 
 // Owns the OpenNI2 objects of one recording so every exit path releases them in order.
 struct RecordingSession {
@@ -84,9 +88,15 @@ DriverResult record_openni2_session(const CameraConfig& config, const std::strin
       session.recorder.start() != openni::STATUS_OK) {
     return DriverResult::failure("cannot start recording: " + openni2_error_text());
   }
+  // openni::Recorder::start() only queues a message to the recorder's own thread, and frames that
+  // arrive before that thread has processed it are silently not recorded. Give it time to start
+  // before asking the device for frames (an on-demand device makes none meanwhile).
+  std::this_thread::sleep_for(kRecorderStartDelay);
   openni::VideoStream* streams[2] = {&session.depth, &session.color};
   openni::VideoFrameRef frame;
-  while (counts.depth_frames < depth_frames) {
+  // Until the depth frames are in, and the colour taken with the last of them (a replay pairs
+  // each depth frame with its colour).
+  while (counts.depth_frames < depth_frames || (has_color && counts.color_frames < depth_frames)) {
     int ready = -1;
     const openni::Status rc = openni::OpenNI::waitForAnyStream(
         streams, has_color ? 2 : 1, &ready, static_cast<int>(config.read_timeout.count()));

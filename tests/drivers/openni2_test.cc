@@ -1,0 +1,112 @@
+// The "openni2" back-end against the OpenNI2 simulation plug-in, through OpenNI2 itself: each
+// case builds a private OpenNI2 installation (openni2_test_env.h) and runs its hidden twin from
+// openni2_child_test.cc in a child process. Plus the plug-in's config reader and the test-pattern
+// camera, which need no OpenNI2.
+
+#include <catch2/catch.hpp>
+
+#include "sim_hw/openni2_sim_config.h"
+#include "sim_hw/test_pattern_camera.h"
+#include "tests/drivers/openni2_test_env.h"
+
+namespace {
+
+// The plug-in's devices for every child: all draw from the test_pattern camera.
+const char* kSimCameras = R"([
+  {"name": "cam", "backend": "test_pattern", "serial": "821312060001",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30},
+   "color_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
+  {"name": "dying", "backend": "test_pattern", "uri": "dead_after=5",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true, "replug_after_ms": 150},
+  {"name": "gone", "backend": "test_pattern", "uri": "dead_after=3",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
+  {"name": "live", "backend": "test_pattern",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30},
+   "color_mode": {"width": 424, "height": 240, "fps": 30}}
+])";
+
+void run_in_openni2(const std::string& child_case) {
+  testing_support::OpenNI2TestEnv env;
+  env.write_sim_config(kSimCameras);
+  const auto result = env.run_child(child_case);
+  INFO("child output:\n" << result.output);
+  CHECK(result.exit_code == 0);
+  CHECK_THAT(result.output, Catch::Contains("All tests passed"));
+}
+
+}  // namespace
+
+TEST_CASE("openni2 back-end reads a plug-in device bit-exact", "[openni2]") {
+  run_in_openni2("child openni2 reads plug-in frames");
+}
+
+TEST_CASE("openni2 back-end opens \"any\" and sets another D415 mode", "[openni2]") {
+  run_in_openni2("child openni2 opens any device and switches the plug-in's mode");
+}
+
+TEST_CASE("openni2 mode negotiation failure lists the device's modes", "[openni2]") {
+  run_in_openni2("child openni2 mode negotiation failure lists the modes");
+}
+
+TEST_CASE("openni2 serial mismatch is a clear error", "[openni2]") {
+  run_in_openni2("child openni2 serial mismatch and unknown device are clear errors");
+}
+
+TEST_CASE("openni2 recording to .oni replays the same frames", "[openni2]") {
+  run_in_openni2("child openni2 records to .oni and replays the same frames");
+}
+
+TEST_CASE("openni2 device removal is kLost and reopened", "[openni2]") {
+  run_in_openni2("child openni2 device removal is kLost then reopened when it returns");
+}
+
+TEST_CASE("openni2 device that never returns stays kLost", "[openni2]") {
+  run_in_openni2("child openni2 device that never returns stays kLost");
+}
+
+TEST_CASE("openni2 free-running plug-in device", "[openni2]") {
+  run_in_openni2("child openni2 free-running device pushes frames at its rate");
+}
+
+TEST_CASE("openni2 plug-in config errors name the file and field", "[openni2]") {
+  testing_support::TempDir dir("openni2_sim_config");
+  const auto path = dir / "cams.json";
+  testing_support::write_file(path, R"([{"name": "a", "backend": "simulated",
+      "depth_mode": {"width": 848, "height": 480, "fps": 30}, "on_demand": "yes"}])");
+  CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()),
+                    Catch::Contains("cams.json") && Catch::Contains("on_demand") && Catch::Contains("true or false"));
+  testing_support::write_file(path, R"([{"name": "a", "backend": "simulated",
+      "depth_mode": {"width": 848, "height": 480, "fps": 30}, "fov": 65}])");
+  CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()), Catch::Contains("fov"));
+  testing_support::write_file(path, R"([{"name": "a", "backend": "simulated", "depth_mode": {"width": 848}}])");
+  CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()), Catch::Contains("depth_mode.height"));
+  testing_support::write_file(path, R"([{"name": "a", "backend": "test_pattern",
+      "depth_mode": {"width": 64, "height": 48, "fps": 30}, "replug_after_ms": 20,
+      "camera_to_cell": [1,0,0,0.5, 0,1,0,0, 0,0,1,1.5, 0,0,0,1]}])");
+  const auto devices = sim_hw::read_openni2_sim_config(path.string());
+  REQUIRE(devices.size() == 1);
+  CHECK(devices[0].replug_after_ms == 20);
+  CHECK_FALSE(devices[0].has_color);
+  CHECK(devices[0].source.camera_to_cell.translation().z() == 1.5);
+}
+
+TEST_CASE("test pattern camera is deterministic and dies on cue", "[openni2]") {
+  sim_hw::TestPatternCamera camera;
+  drivers::CameraConfig config;
+  config.name = "p";
+  config.depth_mode = {32, 24, 30};
+  config.color_mode = {0, 0, 0};
+  config.uri = "dead_after=2";
+  REQUIRE(camera.configure(config).ok);
+  REQUIRE(camera.activate().ok);
+  drivers::DepthFrame a, b;
+  REQUIRE(camera.read(a) == drivers::ReadStatus::kFrame);
+  REQUIRE(camera.read(b) == drivers::ReadStatus::kFrame);
+  CHECK(a.depth_mm != b.depth_mm);
+  CHECK(b.depth_mm[5] == sim_hw::test_pattern_depth_mm(2, 5, 0, 32, 24));
+  CHECK(std::count(a.depth_mm.begin(), a.depth_mm.end(), 0) > 0);  // has invalid pixels
+  CHECK(camera.read(b) == drivers::ReadStatus::kLost);
+  CHECK(camera.health().state == drivers::CameraState::kLost);
+  config.uri = "dead_after=x";
+  CHECK_FALSE(camera.configure(config).ok);
+}
