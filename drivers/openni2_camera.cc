@@ -8,6 +8,7 @@
 #include <cstring>
 #include <deque>
 #include <mutex>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -46,7 +47,8 @@ struct ColorImage {
   std::vector<std::uint8_t> rgb;
 };
 
-constexpr std::size_t kColorHistory = 4;  // recent colour frames kept for timestamp pairing
+constexpr std::size_t kColorHistory = 4;
+constexpr std::chrono::milliseconds kPlaybackStopSettle{30};  // see close_device()  // recent colour frames kept for timestamp pairing
 
 class OpenNI2Camera final : public DepthCamera,
                             private openni::OpenNI::DeviceDisconnectedListener {
@@ -219,14 +221,16 @@ class OpenNI2Camera final : public DepthCamera,
   }
 
   void close_device() {
-    if (depth_.isValid()) {
-      depth_.stop();
-      depth_.destroy();
-    }
-    if (color_.isValid()) {
-      color_.stop();
-      color_.destroy();
-    }
+    // Stop both streams before destroying either. Debian's OniFile player thread walks its stream
+    // list without a lock and spins while a stream is started (e.g. at the end of a recording),
+    // so destroying a stream under it crashed in about 1 of 50 closes here; with every stream
+    // stopped the thread idles in 10 ms sleeps, and the wait lets it get there first.
+    const bool playback = device_.isValid() && device_.isFile();
+    if (depth_.isValid()) depth_.stop();
+    if (color_.isValid()) color_.stop();
+    if (playback) std::this_thread::sleep_for(kPlaybackStopSettle);
+    if (depth_.isValid()) depth_.destroy();
+    if (color_.isValid()) color_.destroy();
     if (device_.isValid()) device_.close();
     has_color_ = false;
   }
