@@ -1,6 +1,7 @@
 #include "sim_hw/test_pattern_camera.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -51,18 +52,25 @@ drivers::DriverResult TestPatternCamera::configure(const drivers::CameraConfig& 
   if (d.width <= 0 || d.height <= 0 || d.fps <= 0) {
     return drivers::DriverResult::failure(config.name + ": depth_mode needs positive width, height, fps");
   }
-  dead_after_ = -1;
-  if (!config.uri.empty()) {
-    const std::string key = "dead_after=";
-    if (config.uri.rfind(key, 0) != 0) {
-      return drivers::DriverResult::failure(config.name + ": test_pattern uri \"" + config.uri +
-                                            "\" is not empty or \"dead_after=N\"");
-    }
+  dead_after_ = freeze_after_ = stale_after_ = -1;
+  std::size_t start = 0;
+  while (start < config.uri.size()) {
+    const std::size_t end = std::min(config.uri.find(',', start), config.uri.size());
+    const std::string item = config.uri.substr(start, end - start);
+    start = end + 1;
+    const std::size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq);
+    std::int64_t* target = key == "dead_after" ? &dead_after_ : key == "freeze_after" ? &freeze_after_
+                         : key == "stale_after" ? &stale_after_ : nullptr;
+    std::size_t used = 0;
     try {
-      dead_after_ = std::stoll(config.uri.substr(key.size()));
+      if (target != nullptr && eq != std::string::npos) *target = std::stoll(item.substr(eq + 1), &used);
     } catch (const std::exception&) {
-      return drivers::DriverResult::failure(config.name + ": test_pattern uri \"" + config.uri +
-                                            "\": N is not a number");
+      used = 0;
+    }
+    if (target == nullptr || used == 0 || used != item.size() - eq - 1 || *target < 0) {
+      return drivers::DriverResult::failure(config.name + ": test_pattern uri item \"" + item +
+                                            "\" is not dead_after=N, freeze_after=N or stale_after=N");
     }
   }
   config_ = config;
@@ -98,14 +106,17 @@ drivers::ReadStatus TestPatternCamera::read(drivers::DepthFrame& frame) {
   const auto& c = config_.color_mode;
   frame.camera = config_.name;
   frame.sequence = sequence_;
-  frame.device_time_us = static_cast<std::int64_t>(sequence_ * 1000000 / d.fps);
+  // Faults: a frozen sensor repeats its image, a stale one its timestamp.
+  const std::uint64_t image = freeze_after_ >= 0 ? std::min<std::uint64_t>(sequence_, freeze_after_) : sequence_;
+  const std::uint64_t clock = stale_after_ >= 0 ? std::min<std::uint64_t>(sequence_, stale_after_) : sequence_;
+  frame.device_time_us = static_cast<std::int64_t>(clock * 1000000 / d.fps);
   frame.host_time_us = std::chrono::duration_cast<std::chrono::microseconds>(
                            std::chrono::steady_clock::now().time_since_epoch()).count();
   frame.depth_intrinsics = intrinsics_for(config_.depth_intrinsics, d);
   frame.depth_mm.resize(static_cast<std::size_t>(d.width) * d.height);
   for (int y = 0; y < d.height; ++y) {
     for (int x = 0; x < d.width; ++x) {
-      frame.depth_mm[static_cast<std::size_t>(y) * d.width + x] = test_pattern_depth_mm(sequence_, x, y, d.width, d.height);
+      frame.depth_mm[static_cast<std::size_t>(y) * d.width + x] = test_pattern_depth_mm(image, x, y, d.width, d.height);
     }
   }
   frame.rgb.clear();
@@ -115,7 +126,7 @@ drivers::ReadStatus TestPatternCamera::read(drivers::DepthFrame& frame) {
     frame.rgb.resize(static_cast<std::size_t>(c.width) * c.height * 3);
     for (int y = 0; y < c.height; ++y) {
       for (int x = 0; x < c.width; ++x) {
-        test_pattern_rgb(sequence_, x, y, &frame.rgb[(static_cast<std::size_t>(y) * c.width + x) * 3]);
+        test_pattern_rgb(image, x, y, &frame.rgb[(static_cast<std::size_t>(y) * c.width + x) * 3]);
       }
     }
   }

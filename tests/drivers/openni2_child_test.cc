@@ -200,6 +200,33 @@ TEST_CASE("child openni2 device that never returns stays kLost", "[.openni2-chil
   CHECK_THAT(health.message, Catch::Contains("reopen failed") && Catch::Contains("prepreg-sim://gone"));
 }
 
+TEST_CASE("child openni2 frozen and stale streams are flagged", "[.openni2-child]") {
+  auto camera = openni2_camera();
+  drivers::CameraConfig config = openni2_config("prepreg-sim://frozen");  // image stops at frame 3
+  config.frozen_after_frames = 3;
+  REQUIRE(camera->configure(config).ok);
+  REQUIRE(camera->activate().ok);
+  drivers::DepthFrame frame;
+  for (int i = 0; i < 4; ++i) REQUIRE(camera->read(frame) == ReadStatus::kFrame);
+  // Frames 3, 4 and 5 are the same image: the third identical one is flagged.
+  REQUIRE(camera->read(frame) == ReadStatus::kFrozen);
+  CHECK(frame.sequence == 5);
+  require_pattern(frame, 3, false);
+  CHECK(camera->health().frozen == 1);
+  CHECK(camera->health().state == drivers::CameraState::kDegraded);
+  CHECK_THAT(camera->health().message, Catch::Contains("frozen"));
+
+  camera = openni2_camera();
+  REQUIRE(camera->configure(openni2_config("prepreg-sim://stale")).ok);  // clock stops at frame 3
+  REQUIRE(camera->activate().ok);
+  for (int i = 0; i < 3; ++i) REQUIRE(camera->read(frame) == ReadStatus::kFrame);
+  REQUIRE(camera->read(frame) == ReadStatus::kStale);
+  CHECK(frame.sequence == 4);
+  require_pattern(frame, 4, false);  // a stale frame is still returned
+  CHECK(camera->health().stale == 1);
+  CHECK_THAT(camera->health().message, Catch::Contains("did not advance"));
+}
+
 TEST_CASE("child openni2 free-running device pushes frames at its rate", "[.openni2-child]") {
   auto camera = openni2_camera();
   REQUIRE(camera->configure(openni2_config("prepreg-sim://live")).ok);

@@ -20,6 +20,10 @@ const char* kSimCameras = R"([
    "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true, "replug_after_ms": 150},
   {"name": "gone", "backend": "test_pattern", "uri": "dead_after=3",
    "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
+  {"name": "frozen", "backend": "test_pattern", "uri": "freeze_after=3",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
+  {"name": "stale", "backend": "test_pattern", "uri": "stale_after=3",
+   "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
   {"name": "live", "backend": "test_pattern",
    "depth_mode": {"width": 424, "height": 240, "fps": 30},
    "color_mode": {"width": 424, "height": 240, "fps": 30}}
@@ -62,6 +66,10 @@ TEST_CASE("openni2 device removal is kLost and reopened", "[openni2]") {
 
 TEST_CASE("openni2 device that never returns stays kLost", "[openni2]") {
   run_in_openni2("child openni2 device that never returns stays kLost");
+}
+
+TEST_CASE("openni2 frozen and stale streams are flagged", "[openni2]") {
+  run_in_openni2("child openni2 frozen and stale streams are flagged");
 }
 
 TEST_CASE("openni2 free-running plug-in device", "[openni2]") {
@@ -109,4 +117,16 @@ TEST_CASE("test pattern camera is deterministic and dies on cue", "[openni2]") {
   CHECK(camera.health().state == drivers::CameraState::kLost);
   config.uri = "dead_after=x";
   CHECK_FALSE(camera.configure(config).ok);
+  config.uri = "dead_after=1,wobble=2";
+  CHECK_THAT(camera.configure(config).message, Catch::Contains("\"wobble=2\""));
+  config.uri = "freeze_after=1,stale_after=2";
+  REQUIRE(camera.configure(config).ok);
+  REQUIRE(camera.activate().ok);
+  REQUIRE(camera.read(a) == drivers::ReadStatus::kFrame);
+  REQUIRE(camera.read(b) == drivers::ReadStatus::kFrame);
+  CHECK(a.depth_mm == b.depth_mm);  // frozen image, running clock
+  CHECK(b.device_time_us > a.device_time_us);
+  REQUIRE(camera.read(a) == drivers::ReadStatus::kFrame);
+  CHECK(a.device_time_us == b.device_time_us);  // stale clock
+  CHECK(a.sequence == 3);
 }
