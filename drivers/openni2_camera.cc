@@ -6,14 +6,15 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <mutex>
 #include <thread>
 
 #include <fmt/format.h>
 
+#include "drivers/openni2_frames.h"
 #include "drivers/openni2_modes.h"
 #include "drivers/openni2_runtime.h"
+#include "drivers/stream_checks.h"
 
 namespace drivers {
 namespace {
@@ -21,8 +22,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::int64_t host_now_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
 }
 
 // "path.oni?speed=X" -> path and speed; any other URI is passed to OpenNI2 unchanged.
@@ -41,17 +41,13 @@ ParsedUri parse_uri(const std::string& uri) {
   return parsed;
 }
 
-struct ColorImage {
-  std::int64_t device_time_us = 0;
-  Intrinsics intrinsics;
-  std::vector<std::uint8_t> rgb;
-};
+// Debian's OniFile player thread walks its stream list without a lock and spins while a stream is
+// started (e.g. at the end of a recording), so destroying a stream under it crashed in about 1 of
+// 50 closes here. With every stream stopped the thread idles in 10 ms sleeps; close_device()
+// waits this long for it to get there before destroying the streams.
+constexpr std::chrono::milliseconds kPlaybackStopSettle{30};
 
-constexpr std::size_t kColorHistory = 4;
-constexpr std::chrono::milliseconds kPlaybackStopSettle{30};  // see close_device()  // recent colour frames kept for timestamp pairing
-
-class OpenNI2Camera final : public DepthCamera,
-                            private openni::OpenNI::DeviceDisconnectedListener {
+class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDisconnectedListener {
  public:
   ~OpenNI2Camera() override {
     close_device();
@@ -148,8 +144,8 @@ class OpenNI2Camera final : public DepthCamera,
   DriverResult open_device() {
     const bool any = uri_.device == "any";
     if (device_.open(any ? openni::ANY_DEVICE : uri_.device.c_str()) != openni::STATUS_OK) {
-      return DriverResult::failure(fmt::format("cannot open OpenNI2 device \"{}\": {}", uri_.device,
-                                               openni2_error_text()));
+      return DriverResult::failure(
+          fmt::format("cannot open OpenNI2 device \"{}\": {}", uri_.device, openni2_error_text()));
     }
     {
       std::lock_guard lock(uri_mutex_);
@@ -160,9 +156,9 @@ class OpenNI2Camera final : public DepthCamera,
       char serial[ONI_MAX_STR] = {};
       int size = sizeof(serial);
       if (device_.getProperty(ONI_DEVICE_PROPERTY_SERIAL_NUMBER, serial, &size) != openni::STATUS_OK) {
-        return DriverResult::failure(fmt::format(
-            "device \"{}\" does not report a serial number (config expects \"{}\"): {}",
-            device_uri_, config_.serial, openni2_error_text()));
+        return DriverResult::failure(
+            fmt::format("device \"{}\" does not report a serial number (config expects \"{}\"): {}",
+                        device_uri_, config_.serial, openni2_error_text()));
       }
       serial[sizeof(serial) - 1] = '\0';
       if (config_.serial != serial) {
@@ -177,8 +173,8 @@ class OpenNI2Camera final : public DepthCamera,
     if (depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
       return DriverResult::failure("cannot create the depth stream: " + openni2_error_text());
     }
-    DriverResult mode = select_openni2_mode(depth_, config_.depth_mode,
-                                            openni::PIXEL_FORMAT_DEPTH_1_MM, "depth");
+    DriverResult mode =
+        select_openni2_mode(depth_, config_.depth_mode, openni::PIXEL_FORMAT_DEPTH_1_MM, "depth");
     if (!mode.ok) return mode;
     if (depth_.getMirroringEnabled()) depth_.setMirroringEnabled(false);
     has_color_ = device_.hasSensor(openni::SENSOR_COLOR);
@@ -202,10 +198,7 @@ class OpenNI2Camera final : public DepthCamera,
       }
       recording_frames_ = playback->getNumberOfFrames(depth_);
     }
-    last_sequence_ = 0;
-    last_device_time_us_ = -1;
-    last_depth_.clear();
-    identical_run_ = 0;
+    checks_.reset();
     colors_.clear();
     return DriverResult::success();
   }
@@ -221,10 +214,7 @@ class OpenNI2Camera final : public DepthCamera,
   }
 
   void close_device() {
-    // Stop both streams before destroying either. Debian's OniFile player thread walks its stream
-    // list without a lock and spins while a stream is started (e.g. at the end of a recording),
-    // so destroying a stream under it crashed in about 1 of 50 closes here; with every stream
-    // stopped the thread idles in 10 ms sleeps, and the wait lets it get there first.
+    // Stop both streams before destroying either (see kPlaybackStopSettle).
     const bool playback = device_.isValid() && device_.isFile();
     if (depth_.isValid()) depth_.stop();
     if (color_.isValid()) color_.stop();
@@ -277,7 +267,7 @@ class OpenNI2Camera final : public DepthCamera,
   }
 
   ReadStatus timed_out() {
-    if (recording_frames_ > 0 && last_sequence_ >= static_cast<std::uint64_t>(recording_frames_)) {
+    if (recording_frames_ > 0 && checks_.last_sequence() >= static_cast<std::uint64_t>(recording_frames_)) {
       set_state(CameraState::kDegraded,
                 fmt::format("end of recording {} after {} depth frames", uri_.device, recording_frames_));
       return ReadStatus::kTimeout;
@@ -287,8 +277,8 @@ class OpenNI2Camera final : public DepthCamera,
     return ReadStatus::kTimeout;
   }
 
-  Intrinsics stream_intrinsics(const openni::VideoStream& stream, const Intrinsics& configured,
-                               int width, int height) const {
+  Intrinsics stream_intrinsics(const openni::VideoStream& stream, const Intrinsics& configured, int width,
+                               int height) const {
     if (configured.width == width && configured.height == height) return configured;
     return intrinsics_from_fov(width, height, stream.getHorizontalFieldOfView(),
                                stream.getVerticalFieldOfView());
@@ -300,15 +290,8 @@ class OpenNI2Camera final : public DepthCamera,
     ColorImage image;
     image.device_time_us = static_cast<std::int64_t>(ref.getTimestamp());
     image.intrinsics = stream_intrinsics(color_, config_.color_intrinsics, ref.getWidth(), ref.getHeight());
-    const int row_bytes = ref.getWidth() * 3;
-    image.rgb.resize(static_cast<std::size_t>(row_bytes) * ref.getHeight());
-    const auto* src = static_cast<const std::uint8_t*>(ref.getData());
-    for (int y = 0; y < ref.getHeight(); ++y) {
-      std::memcpy(image.rgb.data() + static_cast<std::size_t>(y) * row_bytes,
-                  src + static_cast<std::size_t>(y) * ref.getStrideInBytes(), row_bytes);
-    }
-    colors_.push_back(std::move(image));
-    if (colors_.size() > kColorHistory) colors_.pop_front();
+    copy_openni2_rgb(ref, image.rgb);
+    colors_.add(std::move(image));
     return true;
   }
 
@@ -319,12 +302,13 @@ class OpenNI2Camera final : public DepthCamera,
     if (!has_color_) return;
     const auto period = std::chrono::milliseconds(1000 / std::max(1, config_.color_mode.fps) + 1);
     deadline = std::min(deadline, Clock::now() + period);
-    for (std::size_t i = 0; i < kColorHistory; ++i) {
-      if (!colors_.empty() && colors_.back().device_time_us >= depth_time_us) return;
+    for (std::size_t i = 0; i < ColorHistory::kCapacity; ++i) {
+      if (!colors_.empty() && colors_.newest_time_us() >= depth_time_us) return;
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
       openni::VideoStream* streams[1] = {&color_};
       int ready = -1;
-      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, static_cast<int>(std::max<std::int64_t>(0, left.count()))) !=
+      if (openni::OpenNI::waitForAnyStream(streams, 1, &ready,
+                                           static_cast<int>(std::max<std::int64_t>(0, left.count()))) !=
           openni::STATUS_OK) {
         return;
       }
@@ -339,59 +323,19 @@ class OpenNI2Camera final : public DepthCamera,
     frame.device_time_us = static_cast<std::int64_t>(ref.getTimestamp());
     frame.host_time_us = host_now_us();
     frame.depth_intrinsics = stream_intrinsics(depth_, config_.depth_intrinsics, width, height);
-    frame.depth_mm.resize(static_cast<std::size_t>(width) * height);
-    const auto* src = static_cast<const std::uint8_t*>(ref.getData());
-    for (int y = 0; y < height; ++y) {
-      std::memcpy(frame.depth_mm.data() + static_cast<std::size_t>(y) * width,
-                  src + static_cast<std::size_t>(y) * ref.getStrideInBytes(),
-                  static_cast<std::size_t>(width) * sizeof(std::uint16_t));
-    }
+    copy_openni2_depth(ref, frame.depth_mm);
     frame.depth_to_color = config_.depth_to_color;
     frame.camera_to_cell = config_.camera_to_cell;
     catch_up_color(frame.device_time_us, deadline);
-    const ColorImage* best = nullptr;
-    for (const ColorImage& image : colors_) {
-      if (best == nullptr || std::llabs(image.device_time_us - frame.device_time_us) <
-                                 std::llabs(best->device_time_us - frame.device_time_us)) {
-        best = &image;
-      }
-    }
+    const ColorImage* best = colors_.nearest(frame.device_time_us);
     frame.color_intrinsics = best != nullptr ? best->intrinsics : Intrinsics{};
     frame.rgb = best != nullptr ? best->rgb : std::vector<std::uint8_t>{};
     return classify(frame);
   }
 
-  // Counts drops and flags frames whose clock did not advance (stale) or whose image repeats
-  // (frozen), as the interface asks.
   ReadStatus classify(const DepthFrame& frame) {
     std::lock_guard lock(health_mutex_);
-    if (last_sequence_ != 0 && frame.sequence > last_sequence_ + 1) {
-      health_.dropped += frame.sequence - last_sequence_ - 1;
-    }
-    const bool stale = last_device_time_us_ >= 0 && frame.device_time_us <= last_device_time_us_;
-    identical_run_ = (!last_depth_.empty() && last_depth_ == frame.depth_mm) ? identical_run_ + 1 : 0;
-    const bool frozen = identical_run_ + 1 >= config_.frozen_after_frames;
-    last_sequence_ = frame.sequence;
-    last_device_time_us_ = std::max(last_device_time_us_, frame.device_time_us);
-    last_depth_ = frame.depth_mm;
-    ++health_.frames;
-    health_.last_frame_host_time_us = frame.host_time_us;
-    if (stale) {
-      ++health_.stale;
-      health_.state = CameraState::kDegraded;
-      health_.message = fmt::format("stale frame {}: device time {} us did not advance", frame.sequence,
-                                    frame.device_time_us);
-      return ReadStatus::kStale;
-    }
-    if (frozen) {
-      ++health_.frozen;
-      health_.state = CameraState::kDegraded;
-      health_.message = fmt::format("frozen stream: {} identical depth images", identical_run_ + 1);
-      return ReadStatus::kFrozen;
-    }
-    health_.state = CameraState::kActive;
-    health_.message.clear();
-    return ReadStatus::kFrame;
+    return checks_.check(frame, config_.frozen_after_frames, health_);
   }
 
   void set_state(CameraState state, const std::string& message) {
@@ -416,11 +360,8 @@ class OpenNI2Camera final : public DepthCamera,
   std::string device_uri_;
   std::atomic<bool> disconnected_{false};
 
-  std::deque<ColorImage> colors_;
-  std::uint64_t last_sequence_ = 0;
-  std::int64_t last_device_time_us_ = -1;
-  std::vector<std::uint16_t> last_depth_;
-  int identical_run_ = 0;
+  ColorHistory colors_;
+  StreamChecks checks_;  // guarded by health_mutex_
 
   mutable std::mutex health_mutex_;
   CameraHealth health_;

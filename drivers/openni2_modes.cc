@@ -13,16 +13,26 @@ namespace {
 
 std::string pixel_format_name(openni::PixelFormat format) {
   switch (format) {
-    case openni::PIXEL_FORMAT_DEPTH_1_MM: return "depth 1 mm";
-    case openni::PIXEL_FORMAT_DEPTH_100_UM: return "depth 100 um";
-    case openni::PIXEL_FORMAT_SHIFT_9_2: return "shift 9.2";
-    case openni::PIXEL_FORMAT_SHIFT_9_3: return "shift 9.3";
-    case openni::PIXEL_FORMAT_RGB888: return "RGB888";
-    case openni::PIXEL_FORMAT_YUV422: return "YUV422";
-    case openni::PIXEL_FORMAT_GRAY8: return "gray 8";
-    case openni::PIXEL_FORMAT_GRAY16: return "gray 16";
-    case openni::PIXEL_FORMAT_JPEG: return "JPEG";
-    case openni::PIXEL_FORMAT_YUYV: return "YUYV";
+    case openni::PIXEL_FORMAT_DEPTH_1_MM:
+      return "depth 1 mm";
+    case openni::PIXEL_FORMAT_DEPTH_100_UM:
+      return "depth 100 um";
+    case openni::PIXEL_FORMAT_SHIFT_9_2:
+      return "shift 9.2";
+    case openni::PIXEL_FORMAT_SHIFT_9_3:
+      return "shift 9.3";
+    case openni::PIXEL_FORMAT_RGB888:
+      return "RGB888";
+    case openni::PIXEL_FORMAT_YUV422:
+      return "YUV422";
+    case openni::PIXEL_FORMAT_GRAY8:
+      return "gray 8";
+    case openni::PIXEL_FORMAT_GRAY16:
+      return "gray 16";
+    case openni::PIXEL_FORMAT_JPEG:
+      return "JPEG";
+    case openni::PIXEL_FORMAT_YUYV:
+      return "YUYV";
   }
   return fmt::format("pixel format {}", static_cast<int>(format));
 }
@@ -46,8 +56,8 @@ std::string describe_openni2_modes(const openni::VideoStream& stream) {
   return text.empty() ? "none" : text;
 }
 
-DriverResult select_openni2_mode(openni::VideoStream& stream, const StreamMode& wanted,
-                                 int pixel_format, const std::string& sensor_name) {
+DriverResult select_openni2_mode(openni::VideoStream& stream, const StreamMode& wanted, int pixel_format,
+                                 const std::string& sensor_name) {
   if (matches(stream.getVideoMode(), wanted, pixel_format)) return DriverResult::success();
   const openni::Array<openni::VideoMode>& modes = stream.getSensorInfo().getSupportedVideoModes();
   const std::string wanted_text =
@@ -56,18 +66,16 @@ DriverResult select_openni2_mode(openni::VideoStream& stream, const StreamMode& 
   for (int i = 0; i < modes.getSize(); ++i) {
     if (!matches(modes[i], wanted, pixel_format)) continue;
     if (stream.setVideoMode(modes[i]) != openni::STATUS_OK) {
-      return DriverResult::failure(fmt::format("{} stream refused mode {}: {}", sensor_name,
-                                               wanted_text, openni2_error_text()));
+      return DriverResult::failure(
+          fmt::format("{} stream refused mode {}: {}", sensor_name, wanted_text, openni2_error_text()));
     }
     return DriverResult::success();
   }
-  return DriverResult::failure(fmt::format("{} stream has no mode {}; the device offers: {}",
-                                           sensor_name, wanted_text,
-                                           describe_openni2_modes(stream)));
+  return DriverResult::failure(fmt::format("{} stream has no mode {}; the device offers: {}", sensor_name,
+                                           wanted_text, describe_openni2_modes(stream)));
 }
 
-Intrinsics intrinsics_from_fov(int width, int height, double horizontal_fov_rad,
-                               double vertical_fov_rad) {
+Intrinsics intrinsics_from_fov(int width, int height, double horizontal_fov_rad, double vertical_fov_rad) {
   Intrinsics k;
   k.width = width;
   k.height = height;

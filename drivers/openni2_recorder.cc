@@ -54,8 +54,8 @@ DriverResult open_streams(const CameraConfig& config, RecordingSession& session)
   if (session.depth.create(session.device, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
     return DriverResult::failure("cannot create the depth stream: " + openni2_error_text());
   }
-  DriverResult mode = select_openni2_mode(session.depth, config.depth_mode,
-                                          openni::PIXEL_FORMAT_DEPTH_1_MM, "depth");
+  DriverResult mode =
+      select_openni2_mode(session.depth, config.depth_mode, openni::PIXEL_FORMAT_DEPTH_1_MM, "depth");
   if (!mode.ok || !session.device.hasSensor(openni::SENSOR_COLOR)) return mode;
   if (session.color.create(session.device, openni::SENSOR_COLOR) != openni::STATUS_OK) {
     return DriverResult::failure("cannot create the colour stream: " + openni2_error_text());
@@ -65,8 +65,8 @@ DriverResult open_streams(const CameraConfig& config, RecordingSession& session)
 
 }  // namespace
 
-DriverResult record_openni2_session(const CameraConfig& config, const std::string& oni_path,
-                                    int depth_frames, OpenNI2RecordingStats* stats) {
+DriverResult record_openni2_session(const CameraConfig& config, const std::string& oni_path, int depth_frames,
+                                    OpenNI2RecordingStats* stats) {
   OpenNI2Runtime runtime;
   if (!runtime.ok()) return DriverResult::failure(runtime.message());
   OpenNI2RecordingStats counts;
@@ -74,8 +74,8 @@ DriverResult record_openni2_session(const CameraConfig& config, const std::strin
   DriverResult opened = open_streams(config, session);
   if (!opened.ok) return DriverResult::failure(config.name + ": " + opened.message);
   if (session.recorder.create(oni_path.c_str()) != openni::STATUS_OK) {
-    return DriverResult::failure(fmt::format("cannot create recording \"{}\": {}", oni_path,
-                                             openni2_error_text()));
+    return DriverResult::failure(
+        fmt::format("cannot create recording \"{}\": {}", oni_path, openni2_error_text()));
   }
   const bool has_color = session.color.isValid();
   // Lossy (JPEG) compression off: a replay must give back exactly what the camera saw.
@@ -98,8 +98,8 @@ DriverResult record_openni2_session(const CameraConfig& config, const std::strin
   // each depth frame with its colour).
   while (counts.depth_frames < depth_frames || (has_color && counts.color_frames < depth_frames)) {
     int ready = -1;
-    const openni::Status rc = openni::OpenNI::waitForAnyStream(
-        streams, has_color ? 2 : 1, &ready, static_cast<int>(config.read_timeout.count()));
+    const openni::Status rc = openni::OpenNI::waitForAnyStream(streams, has_color ? 2 : 1, &ready,
+                                                               static_cast<int>(config.read_timeout.count()));
     if (rc != openni::STATUS_OK) {
       return DriverResult::failure(fmt::format("recording {} stopped after {} depth frames: {}", oni_path,
                                                counts.depth_frames, openni2_error_text()));

@@ -20,7 +20,7 @@ struct OpenNI2RecordingStats {
 // until `depth_frames` depth frames were read, then closes the file. Fails when the device cannot
 // be opened, a mode is missing, the file cannot be written, or config.read_timeout passes without a
 // frame (the message says how many frames were recorded).
-DriverResult record_openni2_session(const CameraConfig& config, const std::string& oni_path,
-                                    int depth_frames, OpenNI2RecordingStats* stats = nullptr);
+DriverResult record_openni2_session(const CameraConfig& config, const std::string& oni_path, int depth_frames,
+                                    OpenNI2RecordingStats* stats = nullptr);
 
 }  // namespace drivers

@@ -21,7 +21,8 @@ drivers::Intrinsics read_intrinsics(const twin::JsonField& f) {
   k.fy = f["fy"].positive("px");
   k.cx = f["cx"].number("px");
   k.cy = f["cy"].number("px");
-  for (auto [key, value] : {std::pair{"k1", &k.k1}, {"k2", &k.k2}, {"p1", &k.p1}, {"p2", &k.p2}, {"k3", &k.k3}}) {
+  for (auto [key, value] :
+       {std::pair{"k1", &k.k1}, {"k2", &k.k2}, {"p1", &k.p1}, {"p2", &k.p2}, {"k3", &k.k3}}) {
     if (auto d = f.optional(key)) *value = d->number("1");
   }
   return k;
@@ -34,7 +35,8 @@ Eigen::Isometry3d read_pose(const twin::JsonField& f) {
   Eigen::Isometry3d pose;
   pose.matrix() = m;
   const Eigen::Matrix3d r = pose.linear();
-  if (!(r * r.transpose()).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) {
+  if (!(r * r.transpose()).isApprox(Eigen::Matrix3d::Identity(), 1e-6) ||
+      m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) {
     f.fail("must be a rigid transform (orthonormal rotation, last row 0 0 0 1)");
   }
   return pose;
@@ -61,7 +63,8 @@ OpenNI2SimDeviceConfig read_device(const twin::JsonField& f) {
   if (auto v = f.optional("color_intrinsics")) c.color_intrinsics = read_intrinsics(*v);
   if (auto v = f.optional("depth_to_color")) c.depth_to_color = read_pose(*v);
   if (auto v = f.optional("camera_to_cell")) c.camera_to_cell = read_pose(*v);
-  if (auto v = f.optional("read_timeout_ms")) c.read_timeout = std::chrono::milliseconds(v->positive_integer());
+  if (auto v = f.optional("read_timeout_ms"))
+    c.read_timeout = std::chrono::milliseconds(v->positive_integer());
   if (auto v = f.optional("on_demand")) {
     if (!v->json().is_boolean()) v->fail("must be true or false");
     d.on_demand = v->json().get<bool>();
@@ -84,7 +87,8 @@ std::vector<OpenNI2SimDeviceConfig> read_openni2_sim_config(const std::string& p
   std::set<std::string> names;
   for (std::size_t i = 0; i < list.array_size(); ++i) {
     devices.push_back(read_device(list[i]));
-    if (!names.insert(devices.back().source.name).second) list[i]["name"].fail("repeats an earlier camera name");
+    if (!names.insert(devices.back().source.name).second)
+      list[i]["name"].fail("repeats an earlier camera name");
   }
   return devices;
 }

@@ -33,8 +33,8 @@ OniVideoMode oni_mode(const drivers::StreamMode& m, OniPixelFormat format) {
 }
 
 // The datasheet modes plus the configured one (a source may run at a non-D415 mode in tests).
-std::vector<OniVideoMode> advertised(const std::vector<ModeSize>& sizes, const drivers::StreamMode& configured,
-                                     OniPixelFormat format) {
+std::vector<OniVideoMode> advertised(const std::vector<ModeSize>& sizes,
+                                     const drivers::StreamMode& configured, OniPixelFormat format) {
   std::vector<OniVideoMode> modes{oni_mode(configured, format)};
   for (const ModeSize& s : sizes) {
     for (int fps : s.fps) {
@@ -129,10 +129,11 @@ oni::driver::StreamBase* OpenNI2SimDevice::createStream(OniSensorType sensor) {
   const bool depth = sensor == ONI_SENSOR_DEPTH;
   const drivers::StreamMode& m = depth ? config_.source.depth_mode : config_.source.color_mode;
   const drivers::Intrinsics& k = depth ? config_.source.depth_intrinsics : config_.source.color_intrinsics;
-  auto* stream = new OpenNI2SimStream(
-      sensor, depth ? depth_modes_ : color_modes_,
-      oni_mode(m, depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888), intrinsics_at(k, m.width, m.height),
-      [this, sensor](const OniVideoMode& mode) { return set_mode(sensor, mode); });
+  auto* stream =
+      new OpenNI2SimStream(sensor, depth ? depth_modes_ : color_modes_,
+                           oni_mode(m, depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888),
+                           intrinsics_at(k, m.width, m.height),
+                           [this, sensor](const OniVideoMode& mode) { return set_mode(sensor, mode); });
   std::lock_guard lock(streams_mutex_);
   streams_.push_back(stream);
   return stream;
@@ -173,11 +174,14 @@ bool OpenNI2SimDevice::set_mode(OniSensorType sensor, const OniVideoMode& mode) 
 
 OniBool OpenNI2SimDevice::isPropertySupported(int property) {
   switch (property) {
-    case ONI_DEVICE_PROPERTY_SERIAL_NUMBER: return !config_.source.serial.empty();
+    case ONI_DEVICE_PROPERTY_SERIAL_NUMBER:
+      return !config_.source.serial.empty();
     case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION:
     case ONI_DEVICE_PROPERTY_DRIVER_VERSION:
-    case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION: return TRUE;
-    default: return FALSE;
+    case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION:
+      return TRUE;
+    default:
+      return FALSE;
   }
 }
 
@@ -186,18 +190,22 @@ OniStatus OpenNI2SimDevice::getProperty(int property, void* data, int* size) {
     case ONI_DEVICE_PROPERTY_SERIAL_NUMBER:
       if (config_.source.serial.empty()) return ONI_STATUS_NOT_SUPPORTED;
       return put_string(data, size, config_.source.serial);
-    case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION: return put_string(data, size, "prepreg-sim");
-    case ONI_DEVICE_PROPERTY_DRIVER_VERSION: return put(data, size, OniVersion{1, 0, 0, 0});
+    case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION:
+      return put_string(data, size, "prepreg-sim");
+    case ONI_DEVICE_PROPERTY_DRIVER_VERSION:
+      return put(data, size, OniVersion{1, 0, 0, 0});
     // Registration is done by the reader through depth_to_color, never in the device.
     case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION:
       return put(data, size, static_cast<int>(ONI_IMAGE_REGISTRATION_OFF));
-    default: return ONI_STATUS_NOT_SUPPORTED;
+    default:
+      return ONI_STATUS_NOT_SUPPORTED;
   }
 }
 
 OniStatus OpenNI2SimDevice::setProperty(int property, const void* data, int size) {
   if (property == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION && size == static_cast<int>(sizeof(int))) {
-    return *static_cast<const int*>(data) == ONI_IMAGE_REGISTRATION_OFF ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
+    return *static_cast<const int*>(data) == ONI_IMAGE_REGISTRATION_OFF ? ONI_STATUS_OK
+                                                                        : ONI_STATUS_NOT_SUPPORTED;
   }
   return ONI_STATUS_NOT_SUPPORTED;
 }

@@ -89,7 +89,8 @@ class OpenNI2SimDriver : public oni::driver::DriverBase {
       getServices().errorLoggerAppend("prepreg-sim: device \"%s\": %s", uri, e.what());
       return nullptr;
     }
-    auto* device = new OpenNI2SimDevice(configs_[i], std::move(source), getServices(), [this, i] { lost(i); });
+    auto* device =
+        new OpenNI2SimDevice(configs_[i], std::move(source), getServices(), [this, i] { lost(i); });
     if (!device->start_source()) {
       delete device;
       return nullptr;

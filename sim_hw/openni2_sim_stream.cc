@@ -22,7 +22,11 @@ int bytes_per_pixel(OniSensorType sensor) { return sensor == ONI_SENSOR_DEPTH ? 
 OpenNI2SimStream::OpenNI2SimStream(OniSensorType sensor, const std::vector<OniVideoMode>& modes,
                                    OniVideoMode current, drivers::Intrinsics intrinsics,
                                    std::function<bool(const OniVideoMode&)> set_mode)
-    : sensor_(sensor), modes_(modes), current_(current), intrinsics_(intrinsics), set_mode_(std::move(set_mode)) {}
+    : sensor_(sensor),
+      modes_(modes),
+      current_(current),
+      intrinsics_(intrinsics),
+      set_mode_(std::move(set_mode)) {}
 
 OniStatus OpenNI2SimStream::start() {
   running_ = true;
@@ -55,24 +59,28 @@ OniBool OpenNI2SimStream::isPropertySupported(int property) {
 
 OniStatus OpenNI2SimStream::getProperty(int property, void* data, int* size) {
   switch (property) {
-    case ONI_STREAM_PROPERTY_VIDEO_MODE: return put(data, size, current_);
+    case ONI_STREAM_PROPERTY_VIDEO_MODE:
+      return put(data, size, current_);
     // Field of view from the pinhole intrinsics (rad), as a D415 reports it.
     case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
       return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.width / intrinsics_.fx)));
     case ONI_STREAM_PROPERTY_VERTICAL_FOV:
       return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.height / intrinsics_.fy)));
-    case ONI_STREAM_PROPERTY_MIRRORING: return put<OniBool>(data, size, FALSE);
+    case ONI_STREAM_PROPERTY_MIRRORING:
+      return put<OniBool>(data, size, FALSE);
     case ONI_STREAM_PROPERTY_CROPPING: {
       OniCropping none{};
       none.enabled = FALSE;
       return put(data, size, none);
     }
-    case ONI_STREAM_PROPERTY_STRIDE: return put(data, size, current_.resolutionX * bytes_per_pixel(sensor_));
+    case ONI_STREAM_PROPERTY_STRIDE:
+      return put(data, size, current_.resolutionX * bytes_per_pixel(sensor_));
     case ONI_STREAM_PROPERTY_MAX_VALUE:
       return sensor_ == ONI_SENSOR_DEPTH ? put(data, size, kMaxDepthMm) : ONI_STATUS_NOT_SUPPORTED;
     case ONI_STREAM_PROPERTY_MIN_VALUE:
       return sensor_ == ONI_SENSOR_DEPTH ? put(data, size, 0) : ONI_STATUS_NOT_SUPPORTED;
-    default: return ONI_STATUS_NOT_SUPPORTED;
+    default:
+      return ONI_STATUS_NOT_SUPPORTED;
   }
 }
 
@@ -97,9 +105,11 @@ OniStatus OpenNI2SimStream::setProperty(int property, const void* data, int size
     }
     case ONI_STREAM_PROPERTY_CROPPING: {
       if (size != static_cast<int>(sizeof(OniCropping))) return ONI_STATUS_BAD_PARAMETER;
-      return static_cast<const OniCropping*>(data)->enabled == FALSE ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
+      return static_cast<const OniCropping*>(data)->enabled == FALSE ? ONI_STATUS_OK
+                                                                     : ONI_STATUS_NOT_SUPPORTED;
     }
-    default: return ONI_STATUS_NOT_SUPPORTED;
+    default:
+      return ONI_STATUS_NOT_SUPPORTED;
   }
 }
 

@@ -36,8 +36,8 @@ std::uint16_t test_pattern_depth_mm(std::uint64_t sequence, int x, int y, int wi
   if ((static_cast<std::uint64_t>(x) * 7 + static_cast<std::uint64_t>(y) * 13 + sequence) % 53 == 0) {
     return 0;
   }
-  const std::uint64_t plane = 1200 + (static_cast<std::uint64_t>(x) * 300) / width +
-                              (static_cast<std::uint64_t>(y) * 200) / height;
+  const std::uint64_t plane =
+      1200 + (static_cast<std::uint64_t>(x) * 300) / width + (static_cast<std::uint64_t>(y) * 200) / height;
   return static_cast<std::uint16_t>(plane + (x + 7 * sequence) % 64 + (y + 3 * sequence) % 32);
 }
 
@@ -60,8 +60,10 @@ drivers::DriverResult TestPatternCamera::configure(const drivers::CameraConfig& 
     start = end + 1;
     const std::size_t eq = item.find('=');
     const std::string key = item.substr(0, eq);
-    std::int64_t* target = key == "dead_after" ? &dead_after_ : key == "freeze_after" ? &freeze_after_
-                         : key == "stale_after" ? &stale_after_ : nullptr;
+    std::int64_t* target = key == "dead_after"     ? &dead_after_
+                           : key == "freeze_after" ? &freeze_after_
+                           : key == "stale_after"  ? &stale_after_
+                                                   : nullptr;
     std::size_t used = 0;
     try {
       if (target != nullptr && eq != std::string::npos) *target = std::stoll(item.substr(eq + 1), &used);
@@ -107,16 +109,20 @@ drivers::ReadStatus TestPatternCamera::read(drivers::DepthFrame& frame) {
   frame.camera = config_.name;
   frame.sequence = sequence_;
   // Faults: a frozen sensor repeats its image, a stale one its timestamp.
-  const std::uint64_t image = freeze_after_ >= 0 ? std::min<std::uint64_t>(sequence_, freeze_after_) : sequence_;
-  const std::uint64_t clock = stale_after_ >= 0 ? std::min<std::uint64_t>(sequence_, stale_after_) : sequence_;
+  const std::uint64_t image =
+      freeze_after_ >= 0 ? std::min<std::uint64_t>(sequence_, freeze_after_) : sequence_;
+  const std::uint64_t clock =
+      stale_after_ >= 0 ? std::min<std::uint64_t>(sequence_, stale_after_) : sequence_;
   frame.device_time_us = static_cast<std::int64_t>(clock * 1000000 / d.fps);
   frame.host_time_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                           std::chrono::steady_clock::now().time_since_epoch()).count();
+                           std::chrono::steady_clock::now().time_since_epoch())
+                           .count();
   frame.depth_intrinsics = intrinsics_for(config_.depth_intrinsics, d);
   frame.depth_mm.resize(static_cast<std::size_t>(d.width) * d.height);
   for (int y = 0; y < d.height; ++y) {
     for (int x = 0; x < d.width; ++x) {
-      frame.depth_mm[static_cast<std::size_t>(y) * d.width + x] = test_pattern_depth_mm(image, x, y, d.width, d.height);
+      frame.depth_mm[static_cast<std::size_t>(y) * d.width + x] =
+          test_pattern_depth_mm(image, x, y, d.width, d.height);
     }
   }
   frame.rgb.clear();
@@ -138,7 +144,8 @@ drivers::ReadStatus TestPatternCamera::read(drivers::DepthFrame& frame) {
 }
 
 void register_test_pattern_camera() {
-  drivers::register_depth_camera_backend("test_pattern", [] { return std::make_unique<TestPatternCamera>(); });
+  drivers::register_depth_camera_backend("test_pattern",
+                                         [] { return std::make_unique<TestPatternCamera>(); });
 }
 
 }  // namespace sim_hw

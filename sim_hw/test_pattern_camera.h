@@ -32,7 +32,7 @@ class TestPatternCamera : public drivers::DepthCamera {
   drivers::CameraConfig config_;
   drivers::CameraHealth health_;
   std::uint64_t sequence_ = 0;
-  std::int64_t dead_after_ = -1;  // frames before the camera "dies"; -1 = never
+  std::int64_t dead_after_ = -1;                       // frames before the camera "dies"; -1 = never
   std::int64_t freeze_after_ = -1, stale_after_ = -1;  // -1 = never
 };
 

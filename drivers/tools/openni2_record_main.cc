@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "depth frames to record")->check(CLI::PositiveNumber);
   app.add_option("--depth", depth, "depth mode WIDTHxHEIGHT@FPS");
   app.add_option("--color", color, "colour mode WIDTHxHEIGHT@FPS (used when the device has colour)");
-  app.add_option("--timeout-ms", timeout_ms, "give up when no frame comes for this long (ms)")->check(CLI::PositiveNumber);
+  app.add_option("--timeout-ms", timeout_ms, "give up when no frame comes for this long (ms)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     config.depth_mode = parse_mode("--depth", depth);

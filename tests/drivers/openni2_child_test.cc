@@ -39,11 +39,13 @@ void require_pattern(const drivers::DepthFrame& frame, std::uint64_t sequence, b
   std::size_t wrong = 0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      wrong += frame.depth_mm[static_cast<std::size_t>(y) * w + x] != sim_hw::test_pattern_depth_mm(sequence, x, y, w, h);
+      wrong += frame.depth_mm[static_cast<std::size_t>(y) * w + x] !=
+               sim_hw::test_pattern_depth_mm(sequence, x, y, w, h);
     }
   }
-  INFO("frame " << sequence << ", first pixels " << frame.depth_mm[0] << " " << frame.depth_mm[1] << " expected "
-               << sim_hw::test_pattern_depth_mm(sequence, 0, 0, w, h) << " " << sim_hw::test_pattern_depth_mm(sequence, 1, 0, w, h));
+  INFO("frame " << sequence << ", first pixels " << frame.depth_mm[0] << " " << frame.depth_mm[1]
+                << " expected " << sim_hw::test_pattern_depth_mm(sequence, 0, 0, w, h) << " "
+                << sim_hw::test_pattern_depth_mm(sequence, 1, 0, w, h));
   REQUIRE(wrong == 0);
   if (!with_color) return;
   const int cw = frame.color_intrinsics.width, ch = frame.color_intrinsics.height;
@@ -122,8 +124,8 @@ TEST_CASE("child openni2 serial mismatch and unknown device are clear errors", "
   config.serial = "999";
   auto result = camera->configure(config);
   REQUIRE_FALSE(result.ok);
-  CHECK_THAT(result.message, Catch::Contains("serial number mismatch") && Catch::Contains("\"821312060001\"") &&
-                                 Catch::Contains("\"999\""));
+  CHECK_THAT(result.message, Catch::Contains("serial number mismatch") &&
+                                 Catch::Contains("\"821312060001\"") && Catch::Contains("\"999\""));
   config = openni2_config("prepreg-sim://nope");
   result = camera->configure(config);
   REQUIRE_FALSE(result.ok);

@@ -81,12 +81,14 @@ TEST_CASE("openni2 plug-in config errors name the file and field", "[openni2]") 
   const auto path = dir / "cams.json";
   testing_support::write_file(path, R"([{"name": "a", "backend": "simulated",
       "depth_mode": {"width": 848, "height": 480, "fps": 30}, "on_demand": "yes"}])");
-  CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()),
-                    Catch::Contains("cams.json") && Catch::Contains("on_demand") && Catch::Contains("true or false"));
+  CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()), Catch::Contains("cams.json") &&
+                                                                        Catch::Contains("on_demand") &&
+                                                                        Catch::Contains("true or false"));
   testing_support::write_file(path, R"([{"name": "a", "backend": "simulated",
       "depth_mode": {"width": 848, "height": 480, "fps": 30}, "fov": 65}])");
   CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()), Catch::Contains("fov"));
-  testing_support::write_file(path, R"([{"name": "a", "backend": "simulated", "depth_mode": {"width": 848}}])");
+  testing_support::write_file(path,
+                              R"([{"name": "a", "backend": "simulated", "depth_mode": {"width": 848}}])");
   CHECK_THROWS_WITH(sim_hw::read_openni2_sim_config(path.string()), Catch::Contains("depth_mode.height"));
   testing_support::write_file(path, R"([{"name": "a", "backend": "test_pattern",
       "depth_mode": {"width": 64, "height": 48, "fps": 30}, "replug_after_ms": 20,
