@@ -1,8 +1,11 @@
 #include "drivers/camera_registry.h"
+#include "drivers/replay_camera.h"
 
 namespace drivers {
 
 // Filled as the back-ends land (V4L2, OpenNI2, replay).
-void register_real_depth_cameras() {}
+void register_real_depth_cameras() {
+  register_depth_camera_backend("replay", [] { return std::make_unique<ReplayDepthCamera>(); });
+}
 
 }  // namespace drivers
