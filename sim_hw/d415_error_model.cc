@@ -14,9 +14,9 @@ bool in_stereo_shadow(const RenderedView& right, const drivers::Intrinsics& k,
                       double tolerance_m) {
   const Eigen::Vector3d p = left_in_right * p_left;
   if (p.z() <= 0.0) return true;
-  const long c = std::lround(k.fx * p.x() / p.z() + k.cx);
-  const long r = std::lround(k.fy * p.y() / p.z() + k.cy);
-  if (c < 0 || r < 0 || c >= right.width || r >= right.height) return true;  // outside right view
+  const double u = k.fx * p.x() / p.z() + k.cx, v = k.fy * p.y() / p.z() + k.cy;
+  if (!(u > -0.5 && v > -0.5 && u < right.width - 0.5 && v < right.height - 0.5)) return true;  // outside right view
+  const int c = int(u + 0.5), r = int(v + 0.5);  // nearest pixel (u, v > -0.5)
   const float z_right = right.depth_m[std::size_t(r) * right.width + c];
   return z_right > 0.0f && z_right < p.z() - tolerance_m;
 }
@@ -34,6 +34,7 @@ bool next_to_jump(const RenderedView& v, const drivers::Intrinsics& k, int r, in
     if (rr < 0 || cc < 0 || rr >= v.height || cc >= v.width) continue;
     const float zn = v.depth_m[std::size_t(rr) * v.width + cc];
     if (zn == 0.0f) return true;
+    if (std::abs(zn - z) <= jump_m) continue;  // cheap accept: no step of that size at all
     const double nd = n.dot(Eigen::Vector3d((cc - k.cx) / k.fx, (rr - k.cy) / k.fy, 1.0));
     if (std::abs(nd) < 1e-9 || std::abs(zn - plane / nd) > jump_m) return true;
   }
@@ -81,7 +82,7 @@ void make_depth_image(const RenderedView& left, const RenderedView* right,
       const float z = left.depth_m[idx];
       if (z == 0.0f || z < noise.min_range_m || z > noise.max_range_m) continue;
       const Eigen::Vector3d ray((c - k.cx) / k.fx, (r - k.cy) / k.fy, 1.0);
-      const double cos_angle = std::abs(left.normal_cam[idx].cast<double>().dot(ray.normalized()));
+      const double cos_angle = std::abs(left.normal_cam[idx].cast<double>().dot(ray)) / ray.norm();
       if (cos_angle < cos_limit) continue;
       if (next_to_jump(left, k, r, c, z, noise.edge_jump_m)) continue;
       if (noise.stereo_shadow && right &&
