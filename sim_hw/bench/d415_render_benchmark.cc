@@ -13,17 +13,21 @@
 
 #include "sim_hw/d415_model.h"
 #include "sim_hw/depth_renderer.h"
+#include "sim_hw/sheet_scene.h"
 #include "sim_hw/simulated_d415.h"
 
 namespace {
 
-// A 1 m x 1 m sheet hanging in the x-z plane at y = 0, rippled along x, 55x55 cells (6050 tris).
+// The twin's 1 m x 1 m sheet (~6k triangles) hanging in the x-z plane from z = 1.5 m, rippled.
 std::shared_ptr<sim_hw::RenderScene> sheet_scene() {
   auto scene = std::make_shared<sim_hw::RenderScene>();
-  auto sheet = sim_hw::make_grid_mesh("sheet", {0.0, 0.0, 1.0}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(),
-                                      1.0, 1.0, 55, 55, {40, 40, 45});
-  for (auto& v : sheet.vertices) v.y() += 0.05 * std::sin(6.0 * v.x()) * (1.5 - v.z());
-  scene->meshes.push_back(std::move(sheet));
+  const twin::SheetMesh sheet = twin::make_rectangular_sheet(1.0, 1.0, twin::edge_length_for_triangle_count(1.0, 1.0, 6000));
+  twin::VecX x(3 * sheet.vertex_count());
+  for (int i = 0; i < sheet.vertex_count(); ++i) {
+    const double u = sheet.rest_uv[i].x() - 0.5, v = sheet.rest_uv[i].y();
+    x.segment<3>(3 * i) = Eigen::Vector3d(u, 0.05 * std::sin(6.0 * u) * v, 1.5 - v);
+  }
+  scene->meshes.push_back(sim_hw::sheet_scene_mesh(sheet, x));
   scene->floor = sim_hw::FloorPlane{};
   return scene;
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "sim_hw/d415_model.h"
+#include "sim_hw/sheet_scene.h"
 #include "sim_hw/simulated_d415.h"
 #include "tests/sim_hw/d415_test_scenes.h"
 
@@ -236,4 +237,41 @@ TEST_CASE("simulated D415: wall clock paces reads at the frame rate", "[camera_s
   CHECK(elapsed >= 0.09);  // frames 1..3 due at 33, 67, 100 ms
   CHECK(f.host_time_us - first_host >= 90000);
   CHECK(f.sequence >= 3);
+}
+
+TEST_CASE("simulated D415: sees the twin's sheet where it hangs", "[camera_sim]") {
+  // A 1 m sheet of ~6k triangles hanging in the plane y = 0 from z = 1.5 m; the camera 1.5 m in
+  // front (-y) at z = 1.0 m looking along +y. Without noise every sheet pixel reads 1500 mm.
+  const twin::SheetMesh sheet = twin::make_rectangular_sheet(1.0, 1.0, twin::edge_length_for_triangle_count(1.0, 1.0, 6000));
+  twin::VecX x(3 * sheet.vertex_count());
+  for (int i = 0; i < sheet.vertex_count(); ++i) {
+    x.segment<3>(3 * i) = Eigen::Vector3d(sheet.rest_uv[i].x() - 0.5, 0.0, 1.5 - sheet.rest_uv[i].y());
+  }
+  auto scene = sim_hw_test::floor_only();
+  scene->meshes.push_back(sim_hw::sheet_scene_mesh(sheet, x));
+  CHECK(scene->meshes[0].triangles.size() > 5000);
+  sim_hw::SimulatedD415Options o;
+  o.scene = [scene](double) { return scene; };
+  o.noise.sigma_at_1m_mm = o.noise.bias_at_1m_mm = o.noise.dropout_fraction = 0;
+  auto cam = make_camera(o);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  pose.translation() = Eigen::Vector3d(0, -1.5, 1.0);
+  start(cam, sim_hw_test::config_848("front", pose));
+  drivers::DepthFrame f;
+  REQUIRE(cam.read(f) == ReadStatus::kFrame);
+  const auto& k = f.depth_intrinsics;
+  int on_sheet = 0;
+  for (int r = 0; r < k.height; ++r) {
+    for (int c = 0; c < k.width; ++c) {
+      // Pixel ray hits y = 0 at cell x = 1.5 (c - cx) / fx, z = 1.0 - 1.5 (r - cy) / fy.
+      const double cx = 1.5 * (c - k.cx) / k.fx, cz = 1.0 - 1.5 * (r - k.cy) / k.fy;
+      if (std::abs(cx) < 0.48 && cz > 0.52 && cz < 1.48 && c > 40) {  // inside, off the borders
+        ++on_sheet;
+        REQUIRE(f.depth_mm[r * k.width + c] == 1500);
+      }
+    }
+  }
+  CHECK(on_sheet > 50000);
+  CHECK_THROWS_WITH(sim_hw::update_sheet_vertices(scene->meshes[0], twin::VecX(6)), Catch::Contains("expected 3 per vertex"));
 }
