@@ -37,8 +37,11 @@ DriverResult SessionRecorder::start_track(const DepthFrame& f) {
   c.depth_mode = {f.depth_intrinsics.width, f.depth_intrinsics.height, 0};
   c.color_mode = {f.color_intrinsics.width, f.color_intrinsics.height, 0};
   if (const auto it = described_.find(f.camera); it != described_.end()) {
-    c.depth_mode = it->second.depth_mode;
-    c.color_mode = f.color_intrinsics.width == 0 ? StreamMode{0, 0, 0} : it->second.color_mode;
+    // The frame rate only if the described mode is the one streaming (a replayed camera, for
+    // one, ignores the modes it is configured with).
+    const auto same_size = [](const StreamMode& m, const Intrinsics& k) { return m.width == k.width && m.height == k.height; };
+    if (same_size(it->second.depth_mode, f.depth_intrinsics)) c.depth_mode.fps = it->second.depth_mode.fps;
+    if (same_size(it->second.color_mode, f.color_intrinsics)) c.color_mode.fps = it->second.color_mode.fps;
     c.depth_unit_mm = it->second.depth_unit_mm;
   }
   t.index = std::make_unique<std::ofstream>(dir_ / c.index);

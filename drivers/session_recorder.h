@@ -22,8 +22,9 @@ class SessionRecorder {
   // created or already holds a session.json (a recording is never overwritten).
   explicit SessionRecorder(std::filesystem::path dir);
 
-  // Optional, before a camera's first frame: its stream modes and depth unit for session.json
-  // (otherwise the modes are taken from the frame's image sizes with fps 0, unit 1 mm).
+  // Optional, before a camera's first frame: its frame rates and depth unit for session.json.
+  // Modes are always the frame's image sizes; fps is taken from the config where its mode has
+  // that size, else 0 (unknown); unit 1 mm if not described.
   void describe(const CameraConfig& config);
 
   // Appends one frame (camera = frame.camera). Never throws: I/O errors and frames whose
