@@ -6,22 +6,10 @@
 #include <cstring>
 #include <string>
 
+#include "sim_hw/d415_model.h"
+
 namespace sim_hw {
 namespace {
-
-struct ModeSize {
-  int width, height;
-  std::vector<int> fps;
-};
-
-// The D415's depth (Z16) and colour (RGB8) modes, from its datasheet.
-const std::vector<ModeSize> kD415DepthModes = {
-    {1280, 720, {6, 15, 30}},        {848, 480, {6, 15, 30, 60, 90}}, {640, 480, {6, 15, 30, 60, 90}},
-    {640, 360, {6, 15, 30, 60, 90}}, {480, 270, {6, 15, 30, 60, 90}}, {424, 240, {6, 15, 30, 60, 90}}};
-const std::vector<ModeSize> kD415ColorModes = {
-    {1920, 1080, {6, 15, 30}},   {1280, 720, {6, 15, 30}},    {960, 540, {6, 15, 30, 60}},
-    {848, 480, {6, 15, 30, 60}}, {640, 480, {6, 15, 30, 60}}, {640, 360, {6, 15, 30, 60}},
-    {424, 240, {6, 15, 30, 60}}, {320, 240, {6, 30, 60}},     {320, 180, {6, 30, 60}}};
 
 OniVideoMode oni_mode(const drivers::StreamMode& m, OniPixelFormat format) {
   OniVideoMode mode{};
@@ -32,37 +20,37 @@ OniVideoMode oni_mode(const drivers::StreamMode& m, OniPixelFormat format) {
   return mode;
 }
 
-// The datasheet modes plus the configured one (a source may run at a non-D415 mode in tests).
-std::vector<OniVideoMode> advertised(const std::vector<ModeSize>& sizes,
+// The simulated D415's modes (d415_model.h) plus the configured one (a source may run at another
+// mode in tests).
+std::vector<OniVideoMode> advertised(const std::vector<drivers::StreamMode>& d415_modes,
                                      const drivers::StreamMode& configured, OniPixelFormat format) {
   std::vector<OniVideoMode> modes{oni_mode(configured, format)};
-  for (const ModeSize& s : sizes) {
-    for (int fps : s.fps) {
-      if (s.width == configured.width && s.height == configured.height && fps == configured.fps) continue;
-      modes.push_back(oni_mode({s.width, s.height, fps}, format));
-    }
+  for (const drivers::StreamMode& m : d415_modes) {
+    if (m.width == configured.width && m.height == configured.height && m.fps == configured.fps) continue;
+    modes.push_back(oni_mode(m, format));
   }
   return modes;
 }
 
-// Intrinsics for a new resolution: calibrated ones scaled, or a D415-like 65 deg field of view.
-drivers::Intrinsics intrinsics_at(const drivers::Intrinsics& k, int width, int height) {
-  if (k.width == width && k.height == height) return k;
+// Calibrated intrinsics scaled to a new resolution; none (width 0) stay none, so the source
+// camera keeps using its own model.
+drivers::Intrinsics scaled(const drivers::Intrinsics& k, int width, int height) {
+  if (k.width <= 0 || k.height <= 0 || (k.width == width && k.height == height)) return k;
   drivers::Intrinsics out = k;
+  const double sx = double(width) / k.width, sy = double(height) / k.height;
   out.width = width;
   out.height = height;
-  if (k.width > 0 && k.height > 0 && k.fx > 0 && k.fy > 0) {
-    const double sx = double(width) / k.width, sy = double(height) / k.height;
-    out.fx = k.fx * sx;
-    out.fy = k.fy * sy;
-    out.cx = (k.cx + 0.5) * sx - 0.5;
-    out.cy = (k.cy + 0.5) * sy - 0.5;
-  } else {
-    out.fx = out.fy = 0.5 * width / std::tan(0.5 * 65.0 * M_PI / 180.0);
-    out.cx = 0.5 * (width - 1);
-    out.cy = 0.5 * (height - 1);
-  }
+  out.fx = k.fx * sx;
+  out.fy = k.fy * sy;
+  out.cx = (k.cx + 0.5) * sx - 0.5;
+  out.cy = (k.cy + 0.5) * sy - 0.5;
   return out;
+}
+
+// What a stream reports before its first frame brings the source's own intrinsics.
+drivers::Intrinsics stream_guess(const drivers::Intrinsics& k, const drivers::StreamMode& m, bool depth) {
+  if (k.width == m.width && k.height == m.height) return k;
+  return pinhole_from_hfov(m.width, m.height, depth ? kD415DepthHfovDeg : kD415ColorHfovDeg);
 }
 
 template <typename T>
@@ -85,10 +73,10 @@ OpenNI2SimDevice::OpenNI2SimDevice(const OpenNI2SimDeviceConfig& config,
                                    std::unique_ptr<drivers::DepthCamera> source,
                                    oni::driver::DriverServices& services, std::function<void()> on_lost)
     : config_(config), source_(std::move(source)), services_(services), on_lost_(std::move(on_lost)) {
-  depth_modes_ = advertised(kD415DepthModes, config_.source.depth_mode, ONI_PIXEL_FORMAT_DEPTH_1_MM);
+  depth_modes_ = advertised(d415_depth_modes(), config_.source.depth_mode, ONI_PIXEL_FORMAT_DEPTH_1_MM);
   sensors_.push_back({ONI_SENSOR_DEPTH, static_cast<int>(depth_modes_.size()), depth_modes_.data()});
   if (config_.has_color) {
-    color_modes_ = advertised(kD415ColorModes, config_.source.color_mode, ONI_PIXEL_FORMAT_RGB888);
+    color_modes_ = advertised(d415_color_modes(), config_.source.color_mode, ONI_PIXEL_FORMAT_RGB888);
     sensors_.push_back({ONI_SENSOR_COLOR, static_cast<int>(color_modes_.size()), color_modes_.data()});
   }
 }
@@ -129,11 +117,10 @@ oni::driver::StreamBase* OpenNI2SimDevice::createStream(OniSensorType sensor) {
   const bool depth = sensor == ONI_SENSOR_DEPTH;
   const drivers::StreamMode& m = depth ? config_.source.depth_mode : config_.source.color_mode;
   const drivers::Intrinsics& k = depth ? config_.source.depth_intrinsics : config_.source.color_intrinsics;
-  auto* stream =
-      new OpenNI2SimStream(sensor, depth ? depth_modes_ : color_modes_,
-                           oni_mode(m, depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888),
-                           intrinsics_at(k, m.width, m.height),
-                           [this, sensor](const OniVideoMode& mode) { return set_mode(sensor, mode); });
+  auto* stream = new OpenNI2SimStream(
+      sensor, depth ? depth_modes_ : color_modes_,
+      oni_mode(m, depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888), stream_guess(k, m, depth),
+      [this, sensor](const OniVideoMode& mode) { return set_mode(sensor, mode); });
   std::lock_guard lock(streams_mutex_);
   streams_.push_back(stream);
   return stream;
@@ -153,7 +140,7 @@ bool OpenNI2SimDevice::set_mode(OniSensorType sensor, const OniVideoMode& mode) 
   drivers::StreamMode& m = sensor == ONI_SENSOR_DEPTH ? changed.depth_mode : changed.color_mode;
   drivers::Intrinsics& k = sensor == ONI_SENSOR_DEPTH ? changed.depth_intrinsics : changed.color_intrinsics;
   m = {mode.resolutionX, mode.resolutionY, mode.fps};
-  k = intrinsics_at(k, m.width, m.height);
+  k = scaled(k, m.width, m.height);
   source_->deactivate();
   drivers::DriverResult r = source_->configure(changed);
   if (r.ok) r = source_->activate();
@@ -167,7 +154,7 @@ bool OpenNI2SimDevice::set_mode(OniSensorType sensor, const OniVideoMode& mode) 
   config_.source = changed;
   std::lock_guard streams_lock(streams_mutex_);
   for (OpenNI2SimStream* s : streams_) {
-    if (s->sensor() == sensor) s->set_current(mode, k);
+    if (s->sensor() == sensor) s->set_current(mode, stream_guess(k, m, sensor == ONI_SENSOR_DEPTH));
   }
   return true;
 }

@@ -37,6 +37,7 @@ void OpenNI2SimStream::stop() { running_ = false; }
 
 void OpenNI2SimStream::set_current(const OniVideoMode& mode, const drivers::Intrinsics& intrinsics) {
   current_ = mode;
+  std::lock_guard lock(intrinsics_mutex_);
   intrinsics_ = intrinsics;
 }
 
@@ -62,10 +63,14 @@ OniStatus OpenNI2SimStream::getProperty(int property, void* data, int* size) {
     case ONI_STREAM_PROPERTY_VIDEO_MODE:
       return put(data, size, current_);
     // Field of view from the pinhole intrinsics (rad), as a D415 reports it.
-    case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
+    case ONI_STREAM_PROPERTY_HORIZONTAL_FOV: {
+      std::lock_guard lock(intrinsics_mutex_);
       return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.width / intrinsics_.fx)));
-    case ONI_STREAM_PROPERTY_VERTICAL_FOV:
+    }
+    case ONI_STREAM_PROPERTY_VERTICAL_FOV: {
+      std::lock_guard lock(intrinsics_mutex_);
       return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.height / intrinsics_.fy)));
+    }
     case ONI_STREAM_PROPERTY_MIRRORING:
       return put<OniBool>(data, size, FALSE);
     case ONI_STREAM_PROPERTY_CROPPING: {
@@ -120,6 +125,10 @@ bool OpenNI2SimStream::push(const drivers::DepthFrame& frame) {
   const void* source = depth ? static_cast<const void*>(frame.depth_mm.data()) : frame.rgb.data();
   const std::size_t source_bytes = depth ? frame.depth_mm.size() * 2 : frame.rgb.size();
   if (!running_ || source_bytes != bytes) return false;
+  {
+    std::lock_guard lock(intrinsics_mutex_);
+    intrinsics_ = depth ? frame.depth_intrinsics : frame.color_intrinsics;
+  }
   OniFrame* out = getServices().acquireFrame();
   if (out == nullptr) return false;
   if (static_cast<std::size_t>(out->dataSize) < bytes) {

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 #include "drivers/depth_camera.h"
@@ -32,13 +33,15 @@ class OpenNI2SimStream : public oni::driver::StreamBase {
   // The device changed mode (for this sensor): new size/rate and intrinsics.
   void set_current(const OniVideoMode& mode, const drivers::Intrinsics& intrinsics);
   // Copies this stream's image out of `frame` and hands it to OpenNI2. Returns false (pushing
-  // nothing) when the frame's image does not have this stream's size.
+  // nothing) when the frame's image does not have this stream's size. The frame's intrinsics
+  // become the stream's (its field of view is what OpenNI2 can report of them).
   bool push(const drivers::DepthFrame& frame);
 
  private:
   OniSensorType sensor_;
   std::vector<OniVideoMode> modes_;
   OniVideoMode current_;
+  std::mutex intrinsics_mutex_;  // intrinsics_ is read by OpenNI2 callers, written by push()
   drivers::Intrinsics intrinsics_;
   std::function<bool(const OniVideoMode&)> set_mode_;
   std::atomic<bool> running_{false};

@@ -24,7 +24,8 @@ namespace fs = std::filesystem;
 using drivers::ReadStatus;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("camera_session_" + name + "_" + std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("camera_session_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   return d;
 }
@@ -69,8 +70,8 @@ void require_same(const drivers::DepthFrame& a, const drivers::DepthFrame& b) {
   REQUIRE(a.host_time_us == b.host_time_us);
   for (const auto* k : {&a.depth_intrinsics, &a.color_intrinsics}) {
     const auto& l = k == &a.depth_intrinsics ? b.depth_intrinsics : b.color_intrinsics;
-    REQUIRE((k->width == l.width && k->height == l.height && k->fx == l.fx && k->fy == l.fy && k->cx == l.cx &&
-             k->cy == l.cy && k->k1 == l.k1 && k->k3 == l.k3));
+    REQUIRE((k->width == l.width && k->height == l.height && k->fx == l.fx && k->fy == l.fy &&
+             k->cx == l.cx && k->cy == l.cy && k->k1 == l.k1 && k->k3 == l.k3));
   }
   REQUIRE(a.depth_to_color.matrix() == b.depth_to_color.matrix());
   REQUIRE(a.camera_to_cell.matrix() == b.camera_to_cell.matrix());
@@ -139,7 +140,8 @@ TEST_CASE("session: replay paces as recorded, loops, and rebases host time on re
   CHECK(f.sequence == 0);  // looped back to the first frame
   CHECK(host[3] - host[0] == recorded[6].host_time_us - recorded[0].host_time_us);
   const auto now_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                          std::chrono::steady_clock::now().time_since_epoch()).count();
+                          std::chrono::steady_clock::now().time_since_epoch())
+                          .count();
   CHECK(std::abs(now_us - host[4]) < 100000);  // rebased onto the live steady clock
 }
 
@@ -154,7 +156,8 @@ TEST_CASE("session: frame files are standard 16-bit PGM and PPM", "[camera_sim]"
   CHECK(bytes.size() == 13 + 12);
   CHECK(std::uint8_t(bytes[13 + 4]) == 1);  // 256 big-endian: 0x01 0x00
   CHECK(drivers::read_pgm16(dir / "d.pgm", 3, 2) == depth);
-  CHECK_THROWS_WITH(drivers::read_pgm16(dir / "d.pgm", 4, 2), Catch::Contains("d.pgm: image is 3x2, expected 4x2"));
+  CHECK_THROWS_WITH(drivers::read_pgm16(dir / "d.pgm", 4, 2),
+                    Catch::Contains("d.pgm: image is 3x2, expected 4x2"));
   CHECK_THROWS_WITH(drivers::read_ppm8(dir / "d.pgm", 3, 2), Catch::Contains("d.pgm: not a binary PPM"));
   std::ofstream(dir / "t.pgm", std::ios::binary) << "P5\n3 2\n65535\n\x01\x02";
   CHECK_THROWS_WITH(drivers::read_pgm16(dir / "t.pgm", 3, 2), Catch::Contains("t.pgm: truncated"));
@@ -164,8 +167,10 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
   const fs::path dir = fresh_dir("bad");
   record(dir, 3);
   CHECK_THAT(configure_error(dir.string()), Catch::Contains("uri must be '<session dir>#<camera name>"));
-  CHECK_THAT(configure_error(dir.string() + "#nope"), Catch::Contains("no camera 'nope' (it has: cam_a, cam_b)"));
-  CHECK_THAT(configure_error(dir.string() + "#cam_a?speed=2"), Catch::Contains("unknown uri option 'speed=2'"));
+  CHECK_THAT(configure_error(dir.string() + "#nope"),
+             Catch::Contains("no camera 'nope' (it has: cam_a, cam_b)"));
+  CHECK_THAT(configure_error(dir.string() + "#cam_a?speed=2"),
+             Catch::Contains("unknown uri option 'speed=2'"));
   CHECK_THAT(configure_error("/nonexistent/x#cam_a"), Catch::Contains("session.json: cannot open"));
   // A session is never overwritten.
   CHECK_THROWS_WITH(drivers::SessionRecorder(dir), Catch::Contains("already holds a recorded session"));
@@ -178,9 +183,11 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
     text.assign(std::istreambuf_iterator<char>(in), {});
   }
   std::ofstream(index) << text << "7 123 oops depth_x.pgm -\n";
-  CHECK_THAT(configure_error(dir.string() + "#cam_a"), Catch::Contains("index.txt:5: expected 'sequence device_time_us"));
+  CHECK_THAT(configure_error(dir.string() + "#cam_a"),
+             Catch::Contains("index.txt:5: expected 'sequence device_time_us"));
   std::ofstream(index) << text << "9 1 2 depth_000099.pgm -\n";
-  CHECK_THAT(configure_error(dir.string() + "#cam_a"), Catch::Contains("missing file") && Catch::Contains("depth_000099.pgm"));
+  CHECK_THAT(configure_error(dir.string() + "#cam_a"),
+             Catch::Contains("missing file") && Catch::Contains("depth_000099.pgm"));
   std::ofstream(index) << text;
 
   // session.json: a field with the wrong type.
@@ -216,8 +223,9 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
 TEST_CASE("session: the record_cameras tool re-records a replayed camera bit-exactly", "[camera_sim]") {
   const fs::path dir = fresh_dir("tool_src"), out = fresh_dir("tool_out");
   const auto recorded = record(dir, 4);
-  const std::string cmd = fmt::format("{} --out {} --frames 3 --camera cam_a=replay:'{}#cam_a?pace=fast' > {} 2>&1",
-                                      RECORD_CAMERAS_EXE, out.string(), dir.string(), (dir / "tool.log").string());
+  const std::string cmd =
+      fmt::format("{} --out {} --frames 3 --camera cam_a=replay:'{}#cam_a?pace=fast' > {} 2>&1",
+                  RECORD_CAMERAS_EXE, out.string(), dir.string(), (dir / "tool.log").string());
   REQUIRE(std::system(cmd.c_str()) == 0);
   std::ifstream log(dir / "tool.log");
   const std::string text((std::istreambuf_iterator<char>(log)), {});

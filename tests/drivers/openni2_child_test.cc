@@ -9,6 +9,7 @@
 
 #include "drivers/camera_registry.h"
 #include "drivers/openni2_recorder.h"
+#include "sim_hw/simulated_cameras.h"
 #include "sim_hw/test_pattern_camera.h"
 #include "tests/drivers/openni2_test_env.h"
 
@@ -114,7 +115,7 @@ TEST_CASE("child openni2 mode negotiation failure lists the modes", "[.openni2-c
   CHECK_THAT(result.message, Catch::Contains("cam_under_test") && Catch::Contains("800x600@30fps") &&
                                  Catch::Contains("424x240@30fps depth 1 mm") &&
                                  Catch::Contains("1280x720@30fps depth 1 mm") &&
-                                 Catch::Contains("848x480@90fps depth 1 mm"));
+                                 Catch::Contains("848x480@60fps depth 1 mm"));
   CHECK(camera->health().state == drivers::CameraState::kUnconfigured);
 }
 
@@ -227,6 +228,73 @@ TEST_CASE("child openni2 frozen and stale streams are flagged", "[.openni2-child
   require_pattern(frame, 4, false);  // a stale frame is still returned
   CHECK(camera->health().stale == 1);
   CHECK_THAT(camera->health().message, Catch::Contains("did not advance"));
+}
+
+// The plug-in's "sim" device and a "simulated" camera made here with the same config and scene
+// (deterministic for the scene's seed) must give the same frames: OpenNI2 carries them unchanged.
+TEST_CASE("child openni2 simulated D415 through the plug-in", "[.openni2-child]") {
+  auto camera = openni2_camera();
+  drivers::CameraConfig config = openni2_config("prepreg-sim://sim");
+  config.depth_mode = config.color_mode = {848, 480, 30};
+  config.serial = "821312060002";
+  const auto configured = camera->configure(config);
+  INFO(configured.message);
+  REQUIRE(configured.ok);
+  REQUIRE(camera->activate().ok);
+
+  sim_hw::register_simulated_depth_cameras();
+  auto reference = drivers::make_depth_camera("simulated");
+  drivers::CameraConfig direct = openni2_config(testing_support::openni2_test_dir() + "/scene.json");
+  direct.name = "sim";
+  direct.backend = "simulated";
+  direct.depth_mode = direct.color_mode = {848, 480, 30};
+  direct.camera_to_cell.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  direct.camera_to_cell.translation() = Eigen::Vector3d(0, 0, 1.5);
+  REQUIRE(reference->configure(direct).ok);
+  REQUIRE(reference->activate().ok);
+
+  drivers::DepthFrame got, expected;
+  for (int i = 0; i < 4; ++i) {
+    REQUIRE(camera->read(got) == ReadStatus::kFrame);
+    REQUIRE(reference->read(expected) == ReadStatus::kFrame);
+    CHECK(got.sequence == expected.sequence);
+    CHECK(got.device_time_us == expected.device_time_us);
+    REQUIRE(got.depth_mm.size() == expected.depth_mm.size());
+    CHECK(got.depth_mm == expected.depth_mm);
+    CHECK(got.rgb == expected.rgb);
+    // OpenNI2 carries the field of view, so the focal length arrives (to float precision).
+    CHECK(got.depth_intrinsics.fx == Approx(expected.depth_intrinsics.fx).epsilon(1e-4));
+    CHECK(got.color_intrinsics.fy == Approx(expected.color_intrinsics.fy).epsilon(1e-4));
+  }
+  // The sheet (1.0-1.1 m away) is in the image, not just the floor (1.5 m).
+  const std::size_t centre = got.depth_mm.size() / 2 + got.depth_intrinsics.width / 2;
+  CHECK(got.depth_mm[centre] > 950);
+  CHECK(got.depth_mm[centre] < 1150);
+}
+
+TEST_CASE("child openni2 simulated D415 going dead", "[.openni2-child]") {
+  auto camera = openni2_camera();
+  drivers::CameraConfig config = openni2_config("prepreg-sim://sim_dying");
+  config.depth_mode = config.color_mode = {848, 480, 30};
+  config.read_timeout = std::chrono::milliseconds(50);
+  const auto configured = camera->configure(config);
+  INFO(configured.message);
+  REQUIRE(configured.ok);
+  REQUIRE(camera->activate().ok);
+  drivers::DepthFrame frame;
+  int frames = 0;
+  ReadStatus status = ReadStatus::kFrame;
+  while (frames < 20 && (status = camera->read(frame)) == ReadStatus::kFrame) ++frames;
+  REQUIRE(status == ReadStatus::kLost);  // dead from 0.15 s of simulated time, at 30 fps
+  CHECK(frames >= 4);
+  CHECK(frames <= 6);
+  CHECK(camera->health().state == drivers::CameraState::kLost);
+  for (int i = 0; i < 100 && status != ReadStatus::kFrame; ++i) {
+    status = camera->read(frame);
+    if (status != ReadStatus::kFrame) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  CHECK(status == ReadStatus::kFrame);  // replugged: a fresh simulated camera
+  CHECK(camera->health().reopened == 1);
 }
 
 TEST_CASE("child openni2 free-running device pushes frames at its rate", "[.openni2-child]") {

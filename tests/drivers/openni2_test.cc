@@ -24,14 +24,42 @@ const char* kSimCameras = R"([
    "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
   {"name": "stale", "backend": "test_pattern", "uri": "stale_after=3",
    "depth_mode": {"width": 424, "height": 240, "fps": 30}, "on_demand": true},
+  {"name": "sim", "backend": "simulated", "uri": "@DIR@/scene.json", "serial": "821312060002",
+   "depth_mode": {"width": 848, "height": 480, "fps": 30},
+   "color_mode": {"width": 848, "height": 480, "fps": 30},
+   "camera_to_cell": [1, 0, 0, 0,  0, -1, 0, 0,  0, 0, -1, 1.5,  0, 0, 0, 1], "on_demand": true},
+  {"name": "sim_dying", "backend": "simulated", "uri": "@DIR@/scene_dead.json",
+   "depth_mode": {"width": 848, "height": 480, "fps": 30},
+   "color_mode": {"width": 848, "height": 480, "fps": 30},
+   "camera_to_cell": [1, 0, 0, 0,  0, -1, 0, 0,  0, 0, -1, 1.5,  0, 0, 0, 1], "on_demand": true,
+   "replug_after_ms": 100},
   {"name": "live", "backend": "test_pattern",
    "depth_mode": {"width": 424, "height": 240, "fps": 30},
    "color_mode": {"width": 424, "height": 240, "fps": 30}}
 ])";
 
+// A dark sheet 1.0-1.1 m below a camera 1.5 m above the floor (the simulated D415's scene file).
+const char* kScene = R"({
+  "meshes": [{"name": "sheet", "albedo": [40, 40, 45],
+              "vertices": [[-0.3, -0.2, 0.4], [0.3, -0.2, 0.45], [0.3, 0.2, 0.5], [-0.3, 0.2, 0.42]],
+              "triangles": [[0, 1, 2], [0, 2, 3]]}],
+  "floor": {"height_m": 0.0}, "seed": 7, "clock": "simulated" @FAULTS@
+})";
+
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
 void run_in_openni2(const std::string& child_case) {
   testing_support::OpenNI2TestEnv env;
-  env.write_sim_config(kSimCameras);
+  env.write_sim_config(replace_all(kSimCameras, "@DIR@", env.dir()));
+  testing_support::write_file(env.path("scene.json"), replace_all(kScene, "@FAULTS@", ""));
+  // The camera dies 0.15 s into its (simulated) time: after 4 frames at 30 fps.
+  testing_support::write_file(env.path("scene_dead.json"),
+                              replace_all(kScene, "@FAULTS@", R"(, "faults": {"dead_from_s": 0.15})"));
   const auto result = env.run_child(child_case);
   INFO("child output:\n" << result.output);
   CHECK(result.exit_code == 0);
@@ -70,6 +98,14 @@ TEST_CASE("openni2 device that never returns stays kLost", "[openni2]") {
 
 TEST_CASE("openni2 frozen and stale streams are flagged", "[openni2]") {
   run_in_openni2("child openni2 frozen and stale streams are flagged");
+}
+
+TEST_CASE("openni2 back-end reads a simulated D415 through the plug-in bit-exact", "[openni2]") {
+  run_in_openni2("child openni2 simulated D415 through the plug-in");
+}
+
+TEST_CASE("openni2 simulated D415 going dead is kLost and comes back", "[openni2]") {
+  run_in_openni2("child openni2 simulated D415 going dead");
 }
 
 TEST_CASE("openni2 free-running plug-in device", "[openni2]") {

@@ -24,6 +24,7 @@ class OpenNI2TestEnv {
  public:
   OpenNI2TestEnv();  // builds the directory; REQUIREs the system library and drivers exist
 
+  std::string dir() const { return dir_.str(); }
   std::filesystem::path path(const std::string& name) const { return dir_ / name; }
   // Writes the plug-in's device list (PREPREG_OPENNI2_SIM_CONFIG) for the child.
   void write_sim_config(const std::string& json) const;
