@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <ctime>
 #include <thread>
 
 #include "drivers/camera_registry.h"
@@ -312,4 +313,49 @@ TEST_CASE("child openni2 free-running device pushes frames at its rate", "[.open
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(seconds > 4.0 / 30);  // paced at 30 fps, not as fast as possible
+}
+
+// Not a test: how long a read through OpenNI2 and the plug-in takes compared with reading the same
+// source directly (848x480 depth + colour, on demand). Run by hand (see openni2_test.cc).
+TEST_CASE("child openni2 read cost", "[.openni2-child]") {
+  constexpr int kFrames = 120;
+  auto camera = openni2_camera();
+  drivers::CameraConfig config = openni2_config("prepreg-sim://sim");
+  config.depth_mode = config.color_mode = {848, 480, 30};
+  REQUIRE(camera->configure(config).ok);
+  REQUIRE(camera->activate().ok);
+  sim_hw::register_simulated_depth_cameras();
+  auto direct = drivers::make_depth_camera("simulated");
+  drivers::CameraConfig direct_config = config;
+  direct_config.backend = "simulated";
+  direct_config.uri = testing_support::openni2_test_dir() + "/scene.json";
+  direct_config.camera_to_cell.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  direct_config.camera_to_cell.translation() = Eigen::Vector3d(0, 0, 1.5);
+  REQUIRE(direct->configure(direct_config).ok);
+  REQUIRE(direct->activate().ok);
+  drivers::DepthFrame frame;
+  const auto time_reads = [&](drivers::DepthCamera& cam) {
+    // CPU time: this machine's cores are shared, and on demand all the work is in this thread.
+    const std::clock_t start = std::clock();
+    for (int i = 0; i < kFrames; ++i) REQUIRE(cam.read(frame) == ReadStatus::kFrame);
+    return 1000.0 * static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC / kFrames;
+  };
+  const double via_openni2 = time_reads(*camera);
+  const double direct_ms = time_reads(*direct);
+  std::printf("848x480 depth+colour, simulated D415: %.2f ms CPU/read through OpenNI2, %.2f ms direct\n",
+              via_openni2, direct_ms);
+  // The same with the cheap test pattern as the source, so the OpenNI2 path's own cost shows.
+  auto pattern_via = openni2_camera();
+  drivers::CameraConfig pattern_config = openni2_config("prepreg-sim://cam");
+  pattern_config.depth_mode = pattern_config.color_mode = {848, 480, 30};
+  REQUIRE(pattern_via->configure(pattern_config).ok);
+  REQUIRE(pattern_via->activate().ok);
+  sim_hw::TestPatternCamera pattern_direct;
+  pattern_config.uri.clear();
+  REQUIRE(pattern_direct.configure(pattern_config).ok);
+  REQUIRE(pattern_direct.activate().ok);
+  const double pattern_via_ms = time_reads(*pattern_via);
+  const double pattern_direct_ms = time_reads(pattern_direct);
+  std::printf("848x480 depth+colour, test pattern: %.2f ms CPU/read through OpenNI2, %.2f ms direct\n",
+              pattern_via_ms, pattern_direct_ms);
 }

@@ -53,7 +53,7 @@ std::string replace_all(std::string text, const std::string& from, const std::st
   return text;
 }
 
-void run_in_openni2(const std::string& child_case) {
+std::string run_in_openni2(const std::string& child_case) {
   testing_support::OpenNI2TestEnv env;
   env.write_sim_config(replace_all(kSimCameras, "@DIR@", env.dir()));
   testing_support::write_file(env.path("scene.json"), replace_all(kScene, "@FAULTS@", ""));
@@ -64,6 +64,7 @@ void run_in_openni2(const std::string& child_case) {
   INFO("child output:\n" << result.output);
   CHECK(result.exit_code == 0);
   CHECK_THAT(result.output, Catch::Contains("All tests passed"));
+  return result.output;
 }
 
 }  // namespace
@@ -167,4 +168,9 @@ TEST_CASE("test pattern camera is deterministic and dies on cue", "[openni2]") {
   REQUIRE(camera.read(a) == drivers::ReadStatus::kFrame);
   CHECK(a.device_time_us == b.device_time_us);  // stale clock
   CHECK(a.sequence == 3);
+}
+
+// By hand: ./openni2_tests "[.openni2-bench]" -s  (prints ms per read through OpenNI2 vs direct)
+TEST_CASE("openni2 read cost through the plug-in", "[.openni2-bench]") {
+  std::printf("%s", run_in_openni2("child openni2 read cost").c_str());
 }
