@@ -10,8 +10,15 @@
 // Depth is read as PIXEL_FORMAT_DEPTH_1_MM at config.depth_mode, colour as RGB888 at
 // config.color_mode when the device has a colour sensor; OpenNI2's image registration stays off
 // because the tracker maps colour through depth_to_color itself. A disconnected device makes
-// read() return kLost and later reads try to reopen it; the end of a recording makes read()
-// return kTimeout with health().message starting "end of recording".
+// read() return kLost and later reads try to reopen it (at most once per read_timeout; OpenNI2
+// only reopens a URI its driver has announced again, as after a USB replug); the end of a
+// recording makes read() return kTimeout with health().message starting "end of recording".
+//
+// Intrinsics: config.depth_intrinsics / color_intrinsics (the unit's calibration) when their size
+// matches the frame; otherwise pinhole intrinsics from the field of view OpenNI2 reports, with
+// the principal point at the image centre (OpenNI2 carries no more than the FOV).
+// sequence = OpenNI2's frame index, device_time_us = its timestamp (us); frames whose timestamp
+// does not advance are kStale, repeated images kFrozen, index gaps count as dropped.
 
 #include <memory>
 
