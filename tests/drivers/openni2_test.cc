@@ -170,6 +170,24 @@ TEST_CASE("test pattern camera is deterministic and dies on cue", "[openni2]") {
   CHECK(a.sequence == 3);
 }
 
+TEST_CASE("openni2_record tool records a plug-in device and rejects bad input", "[openni2]") {
+  testing_support::OpenNI2TestEnv env;
+  env.write_sim_config(replace_all(kSimCameras, "@DIR@", env.dir()));
+  const std::string oni = env.path("tool.oni").string();
+  auto result = env.run({OPENNI2_RECORD_EXE, "--uri", "prepreg-sim://cam", "--out", oni, "--frames", "5",
+                         "--depth", "424x240@30", "--color", "424x240@30", "--serial", "821312060001"});
+  INFO(result.output);
+  CHECK(result.exit_code == 0);
+  CHECK_THAT(result.output, Catch::Contains("5 depth and 5 colour frames from prepreg-sim://cam"));
+  CHECK(std::filesystem::file_size(oni) > 5u * 424 * 240);
+  result = env.run({OPENNI2_RECORD_EXE, "--uri", "prepreg-sim://cam", "--out", oni, "--depth", "424x240"});
+  CHECK(result.exit_code != 0);
+  CHECK_THAT(result.output, Catch::Contains("--depth") && Catch::Contains("WIDTHxHEIGHT@FPS"));
+  result = env.run({OPENNI2_RECORD_EXE, "--uri", "prepreg-sim://cam", "--out", oni, "--serial", "1"});
+  CHECK(result.exit_code == 2);
+  CHECK_THAT(result.output, Catch::Contains("is not serial \"1\""));
+}
+
 // By hand: ./openni2_tests "[.openni2-bench]" -s  (prints ms per read through OpenNI2 vs direct)
 TEST_CASE("openni2 read cost through the plug-in", "[.openni2-bench]") {
   std::printf("%s", run_in_openni2("child openni2 read cost").c_str());

@@ -33,6 +33,11 @@ void OpenNI2TestEnv::write_sim_config(const std::string& json) const {
 
 OpenNI2TestEnv::ChildResult OpenNI2TestEnv::run_child(
     const std::string& test_name, const std::map<std::string, std::string>& extra_env) const {
+  return run({fs::read_symlink("/proc/self/exe").string(), test_name}, extra_env);
+}
+
+OpenNI2TestEnv::ChildResult OpenNI2TestEnv::run(const std::vector<std::string>& command,
+                                                const std::map<std::string, std::string>& extra_env) const {
   std::map<std::string, std::string> env;
   for (char** e = environ; *e != nullptr; ++e) {
     const std::string entry(*e);
@@ -50,8 +55,7 @@ OpenNI2TestEnv::ChildResult OpenNI2TestEnv::run_child(
   for (std::string& s : env_strings) envp.push_back(s.data());
   envp.push_back(nullptr);
 
-  const std::string exe = fs::read_symlink("/proc/self/exe").string();
-  std::vector<std::string> args = {exe, test_name};
+  std::vector<std::string> args = command;
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -62,7 +66,7 @@ OpenNI2TestEnv::ChildResult OpenNI2TestEnv::run_child(
   posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), envp.data());
+  const int spawned = posix_spawn(&pid, args[0].c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   ChildResult result;
   if (spawned != 0) {

@@ -15,6 +15,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "tests/support/temp_dir.h"
 
@@ -37,6 +38,9 @@ class OpenNI2TestEnv {
   // extra variables; the child finds the env directory in PREPREG_OPENNI2_TEST_DIR.
   ChildResult run_child(const std::string& test_name,
                         const std::map<std::string, std::string>& extra_env = {}) const;
+  // Runs any program (argv[0] = its path) with the OpenNI2 environment.
+  ChildResult run(const std::vector<std::string>& argv,
+                  const std::map<std::string, std::string>& extra_env = {}) const;
 
  private:
   TempDir dir_{"openni2_env"};
