@@ -11,6 +11,7 @@
 // replug_after_ms >= 0 it is announced again that long afterwards, as a re-plugged USB camera is
 // (OpenNI2 only reopens a URI after its driver announces it again).
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
@@ -133,7 +134,8 @@ class OpenNI2SimDriver : public oni::driver::DriverBase {
   void replug_loop() {
     std::unique_lock lock(mutex_);
     while (!stopping_) {
-      const auto next = *std::min_element(replug_at_.begin(), replug_at_.end());
+      const auto earliest = std::min_element(replug_at_.begin(), replug_at_.end());
+      const auto next = earliest == replug_at_.end() ? Clock::time_point::max() : *earliest;
       if (next == Clock::time_point::max()) {
         wake_.wait(lock);
         continue;

@@ -170,6 +170,17 @@ TEST_CASE("test pattern camera is deterministic and dies on cue", "[openni2]") {
   CHECK(a.sequence == 3);
 }
 
+// Debian's own test driver (libDummyDevice: URI "Dummy", 320x240 depth and RGB at 30 fps from its
+// own threads, one mode) shows the back-end working with a driver we did not write.
+TEST_CASE("openni2 back-end reads Debian's DummyDevice driver", "[openni2]") {
+  testing_support::OpenNI2TestEnv env({"libDummyDevice.so.0"});
+  env.write_sim_config("[]");
+  const auto result = env.run_child("child openni2 reads the Dummy device");
+  INFO("child output:\n" << result.output);
+  CHECK(result.exit_code == 0);
+  CHECK_THAT(result.output, Catch::Contains("All tests passed"));
+}
+
 TEST_CASE("openni2_record tool records a plug-in device and rejects bad input", "[openni2]") {
   testing_support::OpenNI2TestEnv env;
   env.write_sim_config(replace_all(kSimCameras, "@DIR@", env.dir()));

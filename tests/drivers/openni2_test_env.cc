@@ -14,17 +14,18 @@ extern char** environ;
 namespace testing_support {
 namespace fs = std::filesystem;
 
-OpenNI2TestEnv::OpenNI2TestEnv() {
+OpenNI2TestEnv::OpenNI2TestEnv(const std::vector<std::string>& system_drivers) {
   const fs::path library = fs::canonical(OPENNI2_LIBRARY_FILE);  // the real libOpenNI2.so.0
-  const fs::path system_drivers = library.parent_path() / "OpenNI2" / "Drivers";
-  const fs::path onifile = system_drivers / "libOniFile.so.0";
-  REQUIRE(fs::exists(onifile));
+  const fs::path system_repository = library.parent_path() / "OpenNI2" / "Drivers";
+  const fs::path drivers = dir_ / "OpenNI2" / "Drivers";
   REQUIRE(fs::exists(OPENNI2_SIM_PLUGIN));
-  fs::create_directories(dir_ / "OpenNI2" / "Drivers");
+  fs::create_directories(drivers);
   fs::create_symlink(library, dir_ / "libOpenNI2.so.0");
-  fs::create_symlink(onifile, dir_ / "OpenNI2" / "Drivers" / "libOniFile.so.0");
-  fs::create_symlink(fs::canonical(OPENNI2_SIM_PLUGIN),
-                     dir_ / "OpenNI2" / "Drivers" / "libprepreg_openni2_sim.so.0");
+  fs::create_symlink(fs::canonical(OPENNI2_SIM_PLUGIN), drivers / "libprepreg_openni2_sim.so.0");
+  for (const std::string& name : system_drivers) {
+    REQUIRE(fs::exists(system_repository / name));
+    fs::create_symlink(system_repository / name, drivers / name);
+  }
 }
 
 void OpenNI2TestEnv::write_sim_config(const std::string& json) const {

@@ -23,7 +23,9 @@ namespace testing_support {
 
 class OpenNI2TestEnv {
  public:
-  OpenNI2TestEnv();  // builds the directory; REQUIREs the system library and drivers exist
+  // Builds the directory with our plug-in and these drivers of the system's OpenNI2 repository;
+  // REQUIREs that they exist.
+  explicit OpenNI2TestEnv(const std::vector<std::string>& system_drivers = {"libOniFile.so.0"});
 
   std::string dir() const { return dir_.str(); }
   std::filesystem::path path(const std::string& name) const { return dir_ / name; }
