@@ -4,7 +4,7 @@
 // right IR imager (for the stereo shadow) and the colour imager, then applies the D415 error
 // model and any faults. The scene comes either from a SceneSource given in code (the cell's fake
 // world passes the true sheet) or, for the registered back-end, from a scene JSON file named by
-// CameraConfig::uri (see d415_scene_file.h).
+// CameraConfig::uri (see d415_scene_file.h); a non-empty uri replaces all constructor options.
 //
 // Calibration: the simulated unit reports the nominal D415 model (d415_model.h) unless the config
 // gives intrinsics (width != 0: must match the mode) or a non-identity depth_to_color, which then
