@@ -32,6 +32,16 @@ std::string mode_list(const std::vector<drivers::StreamMode>& modes) {
 
 SimulatedD415Camera::SimulatedD415Camera(SimulatedD415Options options) : options_(std::move(options)) {}
 
+void SimulatedD415Camera::set_faults(const D415FaultConfig& faults) {
+  const std::lock_guard<std::mutex> lock(faults_mutex_);
+  options_.faults = faults;
+}
+
+D415FaultConfig SimulatedD415Camera::faults() const {
+  const std::lock_guard<std::mutex> lock(faults_mutex_);
+  return options_.faults;
+}
+
 drivers::DriverResult SimulatedD415Camera::configure(const drivers::CameraConfig& config) {
   using drivers::DriverResult;
   const std::string who = fmt::format("simulated camera '{}'", config.name);
@@ -66,7 +76,9 @@ drivers::DriverResult SimulatedD415Camera::configure(const drivers::CameraConfig
   }
   if (!config.uri.empty()) {
     try {
-      options_ = load_d415_scene_file(config.uri);
+      SimulatedD415Options loaded = load_d415_scene_file(config.uri);
+      const std::lock_guard<std::mutex> lock(faults_mutex_);
+      options_ = std::move(loaded);
     } catch (const std::exception& e) {
       return DriverResult::failure(who + ": " + e.what());
     }
@@ -118,11 +130,10 @@ void SimulatedD415Camera::wait_until(double t_s) {
     std::this_thread::sleep_until(activated_at_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                       std::chrono::duration<double>(t_s)));
   }
-  sim_time_s_ = std::max(sim_time_s_, t_s);
+  if (t_s > sim_time_s_) sim_time_s_ = t_s;
 }
 
-bool SimulatedD415Camera::dropped(std::uint64_t index, double t_s) {
-  const auto& f = options_.faults;
+bool SimulatedD415Camera::dropped(const D415FaultConfig& f, std::uint64_t index, double t_s) {
   // Draw for every frame so that a drop window does not shift the random stream.
   const bool by_chance = f.drop_probability > 0.0 &&
                          std::uniform_real_distribution<double>(0.0, 1.0)(fault_rng_) < f.drop_probability;
@@ -133,7 +144,7 @@ bool SimulatedD415Camera::dropped(std::uint64_t index, double t_s) {
 drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
   using drivers::ReadStatus;
   if (!active_) return ReadStatus::kNotActive;
-  const auto& f = options_.faults;
+  const D415FaultConfig f = faults();  // a snapshot: set_faults() may run on another thread
   const double fps = config_.depth_mode.fps;
   const double t_now = now_s();
   const double deadline = t_now + config_.read_timeout.count() / 1000.0;
@@ -164,7 +175,7 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
       ++health_.reopened;
       lost_ = false;
     }
-    if (!dropped(k, t)) break;
+    if (!dropped(f, k, t)) break;
   }
   next_index_ = k + 1;
 

@@ -4,7 +4,7 @@
 // right IR imager (for the stereo shadow) and the colour imager, then applies the D415 error
 // model and any faults. The scene comes either from a SceneSource given in code (the cell's fake
 // world passes the true sheet) or, for the registered back-end, from a scene JSON file named by
-// CameraConfig::uri (see d415_scene_file.h).
+// CameraConfig::uri (see d415_scene_file.h); a non-empty uri replaces all constructor options.
 //
 // Calibration: the simulated unit reports the nominal D415 model (d415_model.h) unless the config
 // gives intrinsics (width != 0: must match the mode) or a non-identity depth_to_color, which then
@@ -16,9 +16,11 @@
 // steady clock on delivery; a late reader gets the newest due frame (older ones count as
 // dropped, as with a real driver's overwritten buffers).
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <random>
 #include <vector>
 
@@ -51,17 +53,17 @@ class SimulatedD415Camera : public drivers::DepthCamera {
   drivers::CameraHealth health() const override;
   drivers::DriverResult deactivate() override;
 
-  // Faults on demand; takes effect at the next read(). Not thread-safe against read().
-  void set_faults(const D415FaultConfig& faults) { options_.faults = faults; }
-  const D415FaultConfig& faults() const { return options_.faults; }
-  // Time of the last frame (or of the last timeout) since activate (s).
-  double sim_time_s() const { return sim_time_s_; }
-  const SimulatedD415Options& options() const { return options_; }
+  // Faults on demand, e.g. from the cell's fake world or a test on another thread; they take
+  // effect at the next read().
+  void set_faults(const D415FaultConfig& faults);
+  D415FaultConfig faults() const;
+  // Simulation time of the last frame (or timeout) since activate (s); safe from any thread.
+  double sim_time_s() const { return sim_time_s_.load(); }
 
  private:
   double now_s() const;
   void wait_until(double t_s);
-  bool dropped(std::uint64_t index, double t_s);
+  bool dropped(const D415FaultConfig& faults, std::uint64_t index, double t_s);
   void render(double t_s, drivers::DepthFrame& frame);
 
   SimulatedD415Options options_;
@@ -78,7 +80,8 @@ class SimulatedD415Camera : public drivers::DepthCamera {
   std::int64_t last_device_time_us_ = 0;
   std::vector<std::uint16_t> last_depth_;
   std::vector<std::uint8_t> last_rgb_;
-  double sim_time_s_ = 0.0;
+  std::atomic<double> sim_time_s_{0.0};
+  mutable std::mutex faults_mutex_;  // guards options_.faults
   std::chrono::steady_clock::time_point activated_at_;
   std::int64_t host_epoch_us_ = 0;
 };

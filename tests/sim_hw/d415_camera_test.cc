@@ -275,3 +275,41 @@ TEST_CASE("simulated D415: sees the twin's sheet where it hangs", "[camera_sim]"
   CHECK(on_sheet > 50000);
   CHECK_THROWS_WITH(sim_hw::update_sheet_vertices(scene->meshes[0], twin::VecX(6)), Catch::Contains("expected 3 per vertex"));
 }
+
+TEST_CASE("simulated D415: depth_to_color maps depth pixels onto their colour", "[camera_sim]") {
+  // What a tracker does to colour its points: deproject each depth pixel, move it with
+  // depth_to_color, project with the colour intrinsics. The dark square (1.0 m away) must come
+  // out dark and the floor (1.2 m) light; a wrong sign of the 15 mm offset would smear ~10 px.
+  sim_hw::SimulatedD415Options o;
+  o.noise.sigma_at_1m_mm = o.noise.bias_at_1m_mm = 0;
+  auto cam = make_camera(o);
+  auto config = sim_hw_test::config_848("aligned", sim_hw_test::looking_down(1.2));
+  config.color_mode = {1280, 720, 30};  // a different resolution and field of view than depth
+  start(cam, config);
+  drivers::DepthFrame f;
+  REQUIRE(cam.read(f) == ReadStatus::kFrame);
+  const auto& dk = f.depth_intrinsics;
+  const auto& ck = f.color_intrinsics;
+  int square = 0, floor = 0, wrong = 0;
+  for (int r = 0; r < dk.height; ++r) {
+    for (int c = 0; c < dk.width; ++c) {
+      const std::uint16_t d = f.depth_mm[r * dk.width + c];
+      if (d == 0) continue;
+      const double z = d / 1000.0;
+      const Eigen::Vector3d p = f.depth_to_color * Eigen::Vector3d((c - dk.cx) / dk.fx * z, (r - dk.cy) / dk.fy * z, z);
+      const int u = int(std::lround(ck.fx * p.x() / p.z() + ck.cx)), v = int(std::lround(ck.fy * p.y() / p.z() + ck.cy));
+      if (u < 0 || v < 0 || u >= ck.width || v >= ck.height) continue;
+      const int red = f.rgb[3 * (v * ck.width + u)];
+      if (std::abs(z - 1.0) < 0.01) {
+        ++square;
+        wrong += red > 60;
+      } else if (std::abs(z - 1.2) < 0.01) {
+        ++floor;
+        wrong += red < 100;
+      }
+    }
+  }
+  CHECK(square > 20000);
+  CHECK(floor > 100000);
+  CHECK(wrong < 0.002 * (square + floor));
+}

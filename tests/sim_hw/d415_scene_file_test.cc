@@ -93,3 +93,37 @@ TEST_CASE("scene file: errors name the file and the field", "[camera_sim]") {
   config.uri = (dir / "missing.json").string();
   CHECK_THAT(cam.configure(config).message, Catch::Contains("missing.json: cannot open"));
 }
+
+TEST_CASE("scene file: the example scene in sim_hw/scenes loads and shows sheet, table and floor", "[camera_sim]") {
+  const std::string path = std::string(PROJECT_SOURCE_DIR) + "/sim_hw/scenes/d415_table_scene.json";
+  sim_hw::SimulatedD415Camera cam;
+  // 1.6 m in front of the sheet (-y), 1.3 m up, looking along +y and tilted 20 deg down.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(-0.35, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+                  (Eigen::Matrix3d() << 1, 0, 0, 0, 0, 1, 0, -1, 0).finished();
+  pose.translation() = Eigen::Vector3d(0, -1.6, 1.3);
+  auto config = sim_hw_test::config_848("example", pose);
+  config.uri = path;
+  const auto r = cam.configure(config);
+  INFO(r.message);
+  REQUIRE(r.ok);
+  REQUIRE(cam.activate().ok);
+  drivers::DepthFrame f;
+  REQUIRE(cam.read(f) == drivers::ReadStatus::kFrame);
+  // Deproject into the cell frame and sort the points by what they lie on.
+  int sheet = 0, table = 0, floor = 0;
+  const auto& k = f.depth_intrinsics;
+  for (int r = 0; r < k.height; ++r) {
+    for (int c = 0; c < k.width; ++c) {
+      const double z = f.depth_mm[r * k.width + c] / 1000.0;
+      if (z == 0) continue;
+      const Eigen::Vector3d p = f.camera_to_cell * Eigen::Vector3d((c - k.cx) / k.fx * z, (r - k.cy) / k.fy * z, z);
+      if (std::abs(p.z() - 0.75) < 0.02 && std::abs(p.x()) < 0.58) ++table;
+      else if (std::abs(p.z()) < 0.03) ++floor;
+      else if (p.z() > 0.92 && p.z() < 1.58 && std::abs(p.y() - 0.05 * (1.6 - p.z()) / 0.7) < 0.02) ++sheet;
+    }
+  }
+  CHECK(sheet > 30000);
+  CHECK(table > 10000);
+  CHECK(floor > 1000);
+}
