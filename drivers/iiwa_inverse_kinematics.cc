@@ -1,6 +1,7 @@
 #include "drivers/iiwa_inverse_kinematics.h"
 
 #include <cmath>
+#include <random>
 
 namespace drivers {
 namespace {
@@ -33,8 +34,11 @@ const char* to_string(IkStatus status) {
   return "?";
 }
 
-IkResult solve_inverse_kinematics(const IiwaArm& arm, const Eigen::Isometry3d& target,
-                                  const JointVector& seed, const IkOptions& options) {
+namespace {
+
+// One damped least-squares descent from `seed`.
+IkResult descend(const IiwaArm& arm, const Eigen::Isometry3d& target, const JointVector& seed,
+                 const IkOptions& options) {
   const IiwaParameters& p = arm.parameters();
   const double w = options.orientation_weight_m;
   Eigen::Matrix<double, 6, 1> weights;
@@ -117,6 +121,33 @@ IkResult solve_inverse_kinematics(const IiwaArm& arm, const Eigen::Isometry3d& t
   }
   result.status = IkStatus::kUnreachable;
   return result;
+}
+
+
+}  // namespace
+
+IkResult solve_inverse_kinematics(const IiwaArm& arm, const Eigen::Isometry3d& target,
+                                  const JointVector& seed, const IkOptions& options) {
+  IkResult best = descend(arm, target, seed, options);
+  if (best.status == IkStatus::kConverged || options.restarts <= 0) return best;
+  const IiwaParameters& p = arm.parameters();
+  std::mt19937 rng(options.restart_seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int attempt = 1; attempt <= options.restarts; ++attempt) {
+    JointVector restart;
+    for (int i = 0; i < kIiwaJoints; ++i) {
+      restart[i] = p.position_min_rad[i] +
+                   unit(rng) * (p.position_max_rad[i] - p.position_min_rad[i]);
+    }
+    IkResult r = descend(arm, target, restart, options);
+    r.attempts = attempt + 1;
+    const bool better = r.status == IkStatus::kConverged ||
+                        r.position_residual_m < best.position_residual_m;
+    if (better) best = r;
+    best.attempts = attempt + 1;
+    if (best.status == IkStatus::kConverged) break;
+  }
+  return best;
 }
 
 }  // namespace drivers

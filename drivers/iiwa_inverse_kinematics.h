@@ -15,6 +15,13 @@ struct IkOptions {
   // Orientation error is weighted as if one radian were this many metres (balances the two).
   double orientation_weight_m = 0.2;
   double initial_damping = 1e-3;  // lambda^2 of the first step, in m^2 (weighted units)
+  // A local method can stall against a joint limit when the seed is far from the solution
+  // (measured from a fixed home seed: about 14 % of random reachable poses). When the seed does
+  // not converge, up to `restarts` further seeds drawn uniformly within the limits (random
+  // generator seeded with restart_seed, so results are repeatable) are tried; the first that
+  // converges wins. 0 keeps the answer near the given seed (tracking); planning may use more.
+  int restarts = 0;
+  unsigned restart_seed = 1;
 };
 
 enum class IkStatus {
@@ -31,6 +38,7 @@ struct IkResult {
   double orientation_residual_rad = 0;  // flange rotation error of q
   int iterations = 0;
   int limited_joint = -1;               // kJointLimit: a joint (0-based) at its limit
+  int attempts = 1;                     // the seed plus the restarts used
 };
 
 // Solves for q with arm.flange_in_cell(q) = target (cell frame), starting from seed.

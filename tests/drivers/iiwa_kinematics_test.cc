@@ -132,6 +132,28 @@ TEST_CASE("inverse kinematics recovers random reachable poses within the limits"
   }
 }
 
+TEST_CASE("with restarts, inverse kinematics reaches random poses from a fixed home seed",
+          "[iiwa]") {
+  std::mt19937 rng(99);
+  const IiwaArm arm(iiwa_parameters(IiwaModel::kIiwa7R800));
+  JointVector home;
+  home << 0, 0.5, 0, -1.2, 0, 0.8, 0;
+  IkOptions options;
+  options.restarts = 10;
+  const int trials = 200;
+  int converged = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Eigen::Isometry3d target =
+        arm.flange_in_cell(random_configuration(arm.parameters(), rng, 0.9));
+    const IkResult r = solve_inverse_kinematics(arm, target, home, options);
+    REQUIRE(arm.within_limits(r.q));
+    if (r.status != IkStatus::kConverged) continue;
+    ++converged;
+    CHECK((arm.flange_in_cell(r.q).translation() - target.translation()).norm() <= 1e-4);
+  }
+  CHECK(converged == trials);
+}
+
 TEST_CASE("a pose out of reach is reported unreachable with its residual", "[iiwa]") {
   const IiwaArm arm(iiwa_parameters(IiwaModel::kIiwa14R820));
   const IiwaParameters& p = arm.parameters();
