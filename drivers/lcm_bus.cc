@@ -1,6 +1,7 @@
 #include "drivers/lcm_bus.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace drivers {
@@ -64,12 +65,25 @@ void LcmBus::unsubscribe(SubscriptionId id) {
   auto it = std::find_if(subscriptions_.begin(), subscriptions_.end(),
                          [id](const auto& s) { return s->id == id; });
   if (it == subscriptions_.end()) return;
-  lcm_unsubscribe(lcm_, (*it)->handle);
-  subscriptions_.erase(it);
+  (*it)->closed = true;
+  // From a callback the subscription (and LCM's handler list) is in use: remove it afterwards.
+  if (!dispatching_) remove_closed_subscriptions();
+}
+
+void LcmBus::remove_closed_subscriptions() {
+  for (auto it = subscriptions_.begin(); it != subscriptions_.end();) {
+    if ((*it)->closed) {
+      lcm_unsubscribe(lcm_, (*it)->handle);
+      it = subscriptions_.erase(it);
+    } else {
+      ++it;
+    }
+  }
 }
 
 void LcmBus::on_raw_message(const lcm_recv_buf_t* buffer, const char* channel, void* user) {
   auto* s = static_cast<Subscription*>(user);
+  if (s->closed) return;
   LcmBus& bus = *s->bus;
   std::string problem;
   const std::string arrived_on(channel);
@@ -87,32 +101,32 @@ void LcmBus::on_raw_message(const lcm_recv_buf_t* buffer, const char* channel, v
     case Outcome::kRejected: counter = &BusCounters::rejected; break;
     case Outcome::kCallbackFailed: counter = &BusCounters::callback_errors; break;
   }
-  ++(s->counters.*counter);
   std::lock_guard lock(bus.mutex_);
+  ++(s->counters.*counter);
   ++(bus.totals_.*counter);
   if (outcome != Outcome::kDelivered) bus.last_problem_ = arrived_on + ": " + problem;
 }
 
 HandleResult LcmBus::handle_for(std::chrono::milliseconds timeout, int max_messages) {
   HandleResult result;
-  const int wait_ms = static_cast<int>(std::max<std::int64_t>(0, timeout.count()));
+  const int wait_ms = static_cast<int>(std::clamp<std::int64_t>(
+      timeout.count(), 0, std::numeric_limits<int>::max()));
+  dispatching_ = true;
   const int first = lcm_handle_timeout(lcm_, wait_ms);
   if (first < 0) {
     result.status = HandleResult::Status::kError;
-    return result;
-  }
-  if (first == 0) return result;  // timed out
-  result.status = HandleResult::Status::kHandled;
-  result.messages = 1;
-  while (result.messages < max_messages) {
-    const int next = lcm_handle_timeout(lcm_, 0);
-    if (next < 0) {
-      result.status = HandleResult::Status::kError;
-      break;
+  } else if (first > 0) {
+    result.status = HandleResult::Status::kHandled;
+    result.messages = 1;
+    while (result.messages < max_messages) {
+      const int next = lcm_handle_timeout(lcm_, 0);
+      if (next < 0) result.status = HandleResult::Status::kError;
+      if (next <= 0) break;
+      ++result.messages;
     }
-    if (next == 0) break;
-    ++result.messages;
   }
+  dispatching_ = false;
+  remove_closed_subscriptions();
   return result;
 }
 

@@ -8,8 +8,10 @@
 // lcm_message_checks.h) is dropped and counted, never handed to the callback; an exception from a
 // callback is caught and counted. Only construction (bad URL) and subscribe() throw.
 //
-// Threads: subscribe, unsubscribe, handle_for and the counters belong to one thread (the one
-// that handles); publish may be called from any thread (LCM's publish is thread-safe).
+// Threads: subscribe, unsubscribe and handle_for belong to one thread (the one that handles);
+// publish, counters() and last_problem() may be used from any thread. A callback may unsubscribe (its own or
+// another subscription: removal waits until handle_for returns, and nothing more is delivered to
+// it meanwhile) but must not subscribe.
 
 #include <chrono>
 #include <cstdint>
@@ -82,7 +84,7 @@ class LcmBus {
   // (at most max_messages in all). Never throws.
   HandleResult handle_for(std::chrono::milliseconds timeout, int max_messages = 1000);
 
-  // Totals over all subscriptions and publishes, and one subscription's counts.
+  // Totals over all subscriptions and publishes; one subscription's counts (handling thread).
   BusCounters counters() const;
   BusCounters counters(SubscriptionId id) const;
   // The last dropped message's or failed publish's reason, with its channel ("" if none).
@@ -102,15 +104,18 @@ class LcmBus {
     lcm_subscription_t* handle = nullptr;
     BusCounters counters;
     LcmBus* bus = nullptr;
+    bool closed = false;  // unsubscribed during dispatch, removed when handle_for returns
   };
 
   SubscriptionId add_subscription(const std::string& channel, Dispatch dispatch);
   void record_publish_failure(const std::string& channel, const std::string& problem);
+  void remove_closed_subscriptions();
   static void on_raw_message(const lcm_recv_buf_t* buffer, const char* channel, void* user);
 
   std::string url_;
   lcm_t* lcm_ = nullptr;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;  // stable addresses for LCM
+  bool dispatching_ = false;  // inside handle_for: unsubscribe only marks subscriptions closed
   SubscriptionId next_id_ = 1;
   mutable std::mutex mutex_;  // guards totals_ and last_problem_ (publish may be on any thread)
   BusCounters totals_;

@@ -225,6 +225,29 @@ TEST_CASE("unsubscribe stops delivery", "[lcm_bus]") {
   CHECK(calls == 1);
 }
 
+TEST_CASE("a callback may unsubscribe; nothing more reaches it", "[lcm_bus]") {
+  LcmBus bus("memq://");
+  int first_calls = 0, second_calls = 0;
+  LcmBus::SubscriptionId second = 0;
+  const LcmBus::SubscriptionId first = bus.subscribe<prepreg_lcm::gripper_status_t>(
+      "GRIPPER_STATUS_LEFT", [&](const prepreg_lcm::gripper_status_t&) {
+        ++first_calls;
+        bus.unsubscribe(first);
+        bus.unsubscribe(second);
+      });
+  second = bus.subscribe<prepreg_lcm::gripper_status_t>(
+      "GRIPPER_STATUS_LEFT", [&](const prepreg_lcm::gripper_status_t&) { ++second_calls; });
+  prepreg_lcm::gripper_status_t msg{};
+  for (int i = 0; i < 3; ++i) REQUIRE(bus.publish("GRIPPER_STATUS_LEFT", msg));
+  bus.handle_for(100ms);
+  bus.handle_for(10ms);
+  CHECK(first_calls == 1);
+  // Three messages were sent; the second subscription may have seen the first one only if LCM
+  // ran its handler before the first subscription's.
+  CHECK(second_calls <= 1);
+  CHECK(bus.counters().delivered == std::uint64_t(1 + second_calls));
+}
+
 TEST_CASE("a bad LCM URL is an error naming the URL", "[lcm_bus]") {
   CHECK_THROWS_WITH(LcmBus("nonsense://nowhere"), Catch::Contains("nonsense://nowhere"));
   CHECK_THROWS_WITH(LcmBus("udpm://not.an.address:7667"),
