@@ -9,9 +9,9 @@
 // callback is caught and counted. Only construction (bad URL) and subscribe() throw.
 //
 // Threads: subscribe, unsubscribe and handle_for belong to one thread (the one that handles);
-// publish, counters() and last_problem() may be used from any thread. A callback may unsubscribe (its own or
-// another subscription: removal waits until handle_for returns, and nothing more is delivered to
-// it meanwhile) but must not subscribe.
+// publish, counters() and last_problem() may be used from any thread. A callback may
+// unsubscribe (its own or another subscription: removal waits until handle_for returns, and
+// nothing more is delivered to it meanwhile) but must not subscribe.
 
 #include <chrono>
 #include <cstdint>

@@ -40,8 +40,12 @@ inline constexpr std::string_view kArmCenter = "CENTER";  // iiwa 14 R820
 // empty or has characters other than letters, digits and '_' (configuration-time use only).
 std::string device_channel(std::string_view prefix, std::string_view device);
 
-inline std::string iiwa_command(std::string_view arm) { return device_channel(kIiwaCommandPrefix, arm); }
-inline std::string iiwa_status(std::string_view arm) { return device_channel(kIiwaStatusPrefix, arm); }
+inline std::string iiwa_command(std::string_view arm) {
+  return device_channel(kIiwaCommandPrefix, arm);
+}
+inline std::string iiwa_status(std::string_view arm) {
+  return device_channel(kIiwaStatusPrefix, arm);
+}
 inline std::string gripper_command(std::string_view arm) {
   return device_channel(kGripperCommandPrefix, arm);
 }

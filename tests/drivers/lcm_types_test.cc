@@ -34,7 +34,8 @@ struct Member {
 std::int64_t hash_update(std::int64_t v, char c) {
   const std::uint64_t mixed =
       (static_cast<std::uint64_t>(v) << 8) ^ static_cast<std::uint64_t>(v >> 55);
-  return static_cast<std::int64_t>(mixed + static_cast<std::uint64_t>(static_cast<std::int64_t>(c)));
+  const auto c64 = static_cast<std::uint64_t>(static_cast<std::int64_t>(c));  // sign-extended
+  return static_cast<std::int64_t>(mixed + c64);
 }
 
 std::int64_t hash_string(std::int64_t v, const std::string& s) {
