@@ -123,7 +123,6 @@ IkResult descend(const IiwaArm& arm, const Eigen::Isometry3d& target, const Join
   return result;
 }
 
-
 }  // namespace
 
 IkResult solve_inverse_kinematics(const IiwaArm& arm, const Eigen::Isometry3d& target,
