@@ -1,0 +1,196 @@
+#include "drivers/lcm_message_checks.h"
+
+#include <cmath>
+#include <string_view>
+#include <vector>
+
+namespace drivers {
+namespace {
+
+// "" if `values` has `count` elements (count in [0, max]), else the problem.
+template <typename V>
+std::string count_problem(std::string_view field, const std::vector<V>& values, long long count,
+                          long long max) {
+  if (count < 0 || count > max) {
+    return std::string(field) + ": count " + std::to_string(count) + " outside [0, " +
+           std::to_string(max) + "]";
+  }
+  if (static_cast<long long>(values.size()) != count) {
+    return std::string(field) + ": " + std::to_string(values.size()) + " values for count " +
+           std::to_string(count);
+  }
+  return {};
+}
+
+template <typename V>
+std::string finite_problem(std::string_view field, const std::vector<V>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      return std::string(field) + "[" + std::to_string(i) + "] is not finite";
+    }
+  }
+  return {};
+}
+
+std::string nonnegative_problem(std::string_view field, double value) {
+  if (!std::isfinite(value) || value < 0) {
+    return std::string(field) + " = " + std::to_string(value) + ", expected finite and >= 0";
+  }
+  return {};
+}
+
+std::string state_problem(std::string_view field, int value, int lowest, int highest) {
+  if (value < lowest || value > highest) {
+    return std::string(field) + " = " + std::to_string(value) + ", expected " +
+           std::to_string(lowest) + ".." + std::to_string(highest);
+  }
+  return {};
+}
+
+// Returns the first non-empty problem.
+template <typename... S>
+std::string first(S&&... problems) {
+  std::string result;
+  ((result.empty() && !problems.empty() ? (result = std::move(problems), 0) : 0), ...);
+  return result;
+}
+
+}  // namespace
+
+std::string message_problem(const prepreg_lcm::sheet_state_t& msg) {
+  using T = prepreg_lcm::sheet_state_t;
+  const int n = msg.num_vertices;
+  std::string problem = first(
+      (msg.source == T::SOURCE_OBSERVED || msg.source == T::SOURCE_PREDICTED)
+          ? std::string()
+          : "source = " + std::to_string(msg.source) + ", expected 1 (observed) or 2 (predicted)",
+      count_problem("x_m", msg.x_m, n, kMaxSheetVertices),
+      count_problem("y_m", msg.y_m, n, kMaxSheetVertices),
+      count_problem("z_m", msg.z_m, n, kMaxSheetVertices),
+      (msg.num_observed_flags == 0 || msg.num_observed_flags == n)
+          ? std::string()
+          : "num_observed_flags = " + std::to_string(msg.num_observed_flags) +
+                ", expected 0 or num_vertices = " + std::to_string(n),
+      count_problem("vertex_observed", msg.vertex_observed, msg.num_observed_flags,
+                    kMaxSheetVertices),
+      (std::isfinite(msg.coverage) && msg.coverage >= 0 && msg.coverage <= 1)
+          ? std::string()
+          : "coverage = " + std::to_string(msg.coverage) + ", expected 0..1");
+  if (!problem.empty()) return problem;
+  // Positions must be finite where the vertex counts as seen (every vertex without flags).
+  for (int i = 0; i < n; ++i) {
+    const bool seen = msg.num_observed_flags == 0 || msg.vertex_observed[i];
+    if (seen && !(std::isfinite(msg.x_m[i]) && std::isfinite(msg.y_m[i]) &&
+                  std::isfinite(msg.z_m[i]))) {
+      return "vertex " + std::to_string(i) + ": position is not finite";
+    }
+  }
+  return {};
+}
+
+std::string message_problem(const prepreg_lcm::prediction_error_t& msg) {
+  std::string problem = first(
+      msg.num_compared < 0 ? "num_compared = " + std::to_string(msg.num_compared) + " < 0"
+                           : std::string(),
+      nonnegative_problem("mean_m", msg.mean_m), nonnegative_problem("max_m", msg.max_m),
+      nonnegative_problem("score_m", msg.score_m),
+      count_problem("vertex_error_m", msg.vertex_error_m, msg.num_vertex_errors,
+                    kMaxSheetVertices));
+  if (!problem.empty()) return problem;
+  if (msg.mean_m > msg.max_m * (1 + 1e-6f)) {
+    return "mean_m = " + std::to_string(msg.mean_m) + " exceeds max_m = " +
+           std::to_string(msg.max_m);
+  }
+  // score = mean + 0.5 max, to float precision.
+  const double expected = double(msg.mean_m) + 0.5 * double(msg.max_m);
+  if (std::abs(msg.score_m - expected) > 1e-6 + 1e-5 * expected) {
+    return "score_m = " + std::to_string(msg.score_m) + ", expected mean_m + 0.5 max_m = " +
+           std::to_string(expected);
+  }
+  for (std::size_t i = 0; i < msg.vertex_error_m.size(); ++i) {
+    const float e = msg.vertex_error_m[i];  // NaN marks an unobserved vertex
+    if (std::isinf(e) || e < 0) {
+      return "vertex_error_m[" + std::to_string(i) + "] = " + std::to_string(e) +
+             ", expected >= 0 or NaN";
+    }
+  }
+  return {};
+}
+
+std::string message_problem(const prepreg_lcm::camera_status_t& msg) {
+  using T = prepreg_lcm::camera_status_t;
+  return first(msg.name.empty() ? std::string("name is empty") : std::string(),
+               state_problem("state", msg.state, T::STATE_UNCONFIGURED, T::STATE_LOST),
+               msg.frames < 0 ? std::string("frames < 0") : std::string(),
+               msg.dropped < 0 ? std::string("dropped < 0") : std::string(),
+               msg.last_frame_utime < 0 ? std::string("last_frame_utime < 0") : std::string());
+}
+
+std::string message_problem(const prepreg_lcm::cell_state_t& msg) {
+  using T = prepreg_lcm::cell_state_t;
+  return first(
+      state_problem("state", msg.state, T::STATE_STARTING, T::STATE_STOPPED),
+      msg.cycle_id < -1 ? std::string("cycle_id < -1") : std::string(),
+      (msg.num_cameras < 0 || msg.num_cameras_ok < 0 || msg.num_cameras_ok > msg.num_cameras)
+          ? "num_cameras_ok = " + std::to_string(msg.num_cameras_ok) + ", num_cameras = " +
+                std::to_string(msg.num_cameras) + ", expected 0 <= ok <= cameras"
+          : std::string());
+}
+
+std::string message_problem(const prepreg_lcm::grasp_plan_t& msg) {
+  const int n = msg.num_grasps;
+  std::string problem = first(
+      count_problem("material_u_m", msg.material_u_m, n, kMaxGrasps),
+      count_problem("material_v_m", msg.material_v_m, n, kMaxGrasps),
+      count_problem("cell_x_m", msg.cell_x_m, n, kMaxGrasps),
+      count_problem("cell_y_m", msg.cell_y_m, n, kMaxGrasps),
+      count_problem("cell_z_m", msg.cell_z_m, n, kMaxGrasps),
+      count_problem("arm", msg.arm, n, kMaxGrasps),
+      finite_problem("material_u_m", msg.material_u_m),
+      finite_problem("material_v_m", msg.material_v_m),
+      finite_problem("cell_x_m", msg.cell_x_m), finite_problem("cell_y_m", msg.cell_y_m),
+      finite_problem("cell_z_m", msg.cell_z_m),
+      nonnegative_problem("predicted_sag_m", msg.predicted_sag_m));
+  if (!problem.empty()) return problem;
+  for (int i = 0; i < n; ++i) {
+    if (msg.arm[i].empty()) return "arm[" + std::to_string(i) + "] is empty";
+  }
+  return {};
+}
+
+std::string message_problem(const prepreg_lcm::gripper_command_t& msg) {
+  using T = prepreg_lcm::gripper_command_t;
+  return first(state_problem("action", msg.action, T::ACTION_OPEN, T::ACTION_CLOSE),
+               nonnegative_problem("width_m", msg.width_m),
+               nonnegative_problem("force_n", msg.force_n));
+}
+
+std::string message_problem(const prepreg_lcm::gripper_status_t& msg) {
+  using T = prepreg_lcm::gripper_status_t;
+  return first(state_problem("state", msg.state, T::STATE_OPEN, T::STATE_FAULT),
+               nonnegative_problem("width_m", msg.width_m));
+}
+
+std::string message_problem(const lcmt_iiwa_command& msg) {
+  return first(count_problem("joint_position", msg.joint_position, msg.num_joints, kMaxIiwaJoints),
+               count_problem("joint_torque", msg.joint_torque, msg.num_torques, kMaxIiwaJoints),
+               finite_problem("joint_position", msg.joint_position),
+               finite_problem("joint_torque", msg.joint_torque));
+}
+
+std::string message_problem(const lcmt_iiwa_status& msg) {
+  const int n = msg.num_joints;
+  return first(
+      count_problem("joint_position_measured", msg.joint_position_measured, n, kMaxIiwaJoints),
+      count_problem("joint_velocity_estimated", msg.joint_velocity_estimated, n, kMaxIiwaJoints),
+      count_problem("joint_position_commanded", msg.joint_position_commanded, n, kMaxIiwaJoints),
+      count_problem("joint_position_ipo", msg.joint_position_ipo, n, kMaxIiwaJoints),
+      count_problem("joint_torque_measured", msg.joint_torque_measured, n, kMaxIiwaJoints),
+      count_problem("joint_torque_commanded", msg.joint_torque_commanded, n, kMaxIiwaJoints),
+      count_problem("joint_torque_external", msg.joint_torque_external, n, kMaxIiwaJoints),
+      finite_problem("joint_position_measured", msg.joint_position_measured),
+      finite_problem("joint_velocity_estimated", msg.joint_velocity_estimated),
+      finite_problem("joint_position_commanded", msg.joint_position_commanded));
+}
+
+}  // namespace drivers
