@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <linux/videodev2.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -40,7 +41,8 @@ EmulatedV4l2Node EmulatedV4l2Node::create(const std::string& name, std::uint32_t
   const std::uint32_t stride = static_cast<std::uint32_t>((v4l2_shm::kSlotHeaderBytes + frame_bytes + 63) / 64 * 64);
   const std::size_t bytes = v4l2_shm::total_bytes(stride, v4l2_shm::kSlotCount);
   void* addr = MAP_FAILED;
-  if (::ftruncate(fd, static_cast<off_t>(bytes)) == 0)
+  struct stat st {};
+  if (::ftruncate(fd, static_cast<off_t>(bytes)) == 0 && ::fstat(fd, &st) == 0)
     addr = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
   const int err = errno;
   ::close(fd);
@@ -73,11 +75,13 @@ EmulatedV4l2Node EmulatedV4l2Node::create(const std::string& name, std::uint32_t
   EmulatedV4l2Node node;
   node.name_ = name;
   node.map_ = {h, bytes};
+  node.device_ = st.st_dev;
+  node.inode_ = st.st_ino;
   return node;
 }
 
 EmulatedV4l2Node::EmulatedV4l2Node(EmulatedV4l2Node&& other) noexcept
-    : name_(std::move(other.name_)), map_(other.map_) {
+    : name_(std::move(other.name_)), map_(other.map_), device_(other.device_), inode_(other.inode_) {
   other.map_ = {};
 }
 
@@ -86,6 +90,8 @@ EmulatedV4l2Node& EmulatedV4l2Node::operator=(EmulatedV4l2Node&& other) noexcept
     destroy();
     name_ = std::move(other.name_);
     map_ = other.map_;
+    device_ = other.device_;
+    inode_ = other.inode_;
     other.map_ = {};
   }
   return *this;
@@ -103,7 +109,13 @@ void EmulatedV4l2Node::mark_dead() {
 void EmulatedV4l2Node::destroy() {
   if (!map_.header) return;
   mark_dead();
-  ::shm_unlink(v4l2_shm::shm_path(name_).c_str());
+  const std::string path = v4l2_shm::shm_path(name_);
+  const int fd = ::shm_open(path.c_str(), O_RDONLY, 0);
+  if (fd >= 0) {
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && st.st_dev == device_ && st.st_ino == inode_) ::shm_unlink(path.c_str());
+    ::close(fd);
+  }
   ::munmap(map_.header, map_.bytes);
   map_ = {};
 }

@@ -9,6 +9,7 @@
 //   (destructor or destroy(): mark dead and unlink; create again = the device comes back)
 
 #include <cstdint>
+#include <cstddef>
 #include <string>
 
 #include "sim_hw/v4l2_shm_layout.h"
@@ -41,6 +42,9 @@ class EmulatedV4l2Node {
  private:
   std::string name_;
   v4l2_shm::Mapping map_;
+  // The shm object's identity: destroy() unlinks the name only while it still names this object
+  // (a replacement created under the same name must survive the old node's destruction).
+  std::uint64_t device_ = 0, inode_ = 0;
 };
 
 // CLOCK_MONOTONIC now, in us (the clock uvcvideo stamps buffers with).
