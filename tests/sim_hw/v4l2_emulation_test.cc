@@ -1,0 +1,192 @@
+// The real V4L2 back-end in a separate process (the real camera_probe tool) reading emulated
+// /dev/video nodes through the LD_PRELOAD shim, while this test publishes frames into the nodes'
+// shared memory, unplugs the depth node and plugs it back in.
+
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "drivers/yuyv_color.h"
+#include "sim_hw/emulated_v4l2_node.h"
+#include "tests/support/temp_dir.h"
+
+extern char** environ;
+
+namespace {
+
+constexpr int kW = 64, kH = 48;
+namespace fs = std::filesystem;
+
+std::vector<std::uint16_t> depth_pattern(std::uint64_t k) {
+  std::vector<std::uint16_t> d(kW * kH);
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = static_cast<std::uint16_t>(300 + (i * 11 + k * 17) % 4000);
+  return d;
+}
+
+std::vector<std::uint8_t> rgb_pattern(std::uint64_t k) {  // pixel pairs share a colour
+  std::vector<std::uint8_t> rgb(kW * kH * 3);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(kW * kH); ++p)
+    for (int c = 0; c < 3; ++c) rgb[3 * p + c] = static_cast<std::uint8_t>(20 + ((p / 2) * (3 + c) + k * (c + 1)) % 200);
+  return rgb;
+}
+
+std::string config_json(const std::string& uri) {
+  return R"({"cameras": [{"name": "cam0", "backend": "v4l2", "uri": ")" + uri + R"(",
+    "depth_mode": {"width": 64, "height": 48, "fps": 30}, "color_mode": {"width": 64, "height": 48, "fps": 30},
+    "depth_intrinsics": {"width": 64, "height": 48, "fx": 50, "fy": 50, "cx": 32, "cy": 24},
+    "color_intrinsics": {"width": 64, "height": 48, "fx": 50, "fy": 50, "cx": 32, "cy": 24},
+    "camera_to_cell": {"translation_m": [0, 0, 1.5], "rpy_deg": [180, 0, 0]}}]})";
+}
+
+// Runs camera_probe with the shim preloaded; returns the exit status, stdout in `output`.
+int run_probe(const std::vector<std::string>& args, const std::string& emulation, const fs::path& out_file,
+              std::string& output) {
+  std::vector<std::string> env_text = {std::string("LD_PRELOAD=") + V4L2_SHIM_SO,
+                                       "PREPREG_V4L2_EMULATION=" + emulation};
+  for (char** e = environ; *e; ++e)
+    if (std::string(*e).rfind("LD_PRELOAD=", 0) != 0 && std::string(*e).rfind("PREPREG_V4L2", 0) != 0) env_text.push_back(*e);
+  std::vector<char*> envp, argv;
+  for (auto& s : env_text) envp.push_back(s.data());
+  envp.push_back(nullptr);
+  std::vector<std::string> all = {CAMERA_PROBE_EXE};
+  all.insert(all.end(), args.begin(), args.end());
+  for (auto& s : all) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, CAMERA_PROBE_EXE, &actions, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&actions);
+  REQUIRE(spawned == 0);
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  std::ifstream in(out_file);
+  std::stringstream text;
+  text << in.rdbuf();
+  output = text.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<std::uint8_t> read_pnm(const fs::path& path, int& width, int& height, int& maxval) {
+  std::ifstream in(path, std::ios::binary);
+  std::string magic;
+  in >> magic >> width >> height >> maxval;
+  in.get();
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return bytes;
+}
+
+int depth_files(const fs::path& dir) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n += e.path().string().ends_with("_depth.pgm");
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("camera_probe reads emulated V4L2 nodes through the LD_PRELOAD shim, survives an unplug",
+          "[v4l2_emulation]") {
+  testing_support::TempDir dir("v4l2_emulation");
+  fs::create_directories(dir / "dump");
+  testing_support::write_file(dir / "cell.json", config_json("depth=/dev/video0,color=/dev/video2"));
+  const std::string prefix = "prepreg_emutest_" + std::to_string(::getpid());
+  sim_hw::EmulatedV4l2Node depth = sim_hw::EmulatedV4l2Node::create(prefix + "_depth", V4L2_PIX_FMT_Z16, kW, kH, 30);
+  sim_hw::EmulatedV4l2Node color = sim_hw::EmulatedV4l2Node::create(prefix + "_color", V4L2_PIX_FMT_YUYV, kW, kH, 30);
+
+  std::atomic<bool> stop{false};
+  std::uint64_t sequence = 0;
+  bool unplugged = false;
+  // The producer: 30 fps; once the probe has written 5 frames, unplug the depth node for 300 ms
+  // and plug a fresh one in under the same name (the probe must reopen it).
+  auto producer = [&] {
+    std::vector<std::uint8_t> yuyv;
+    const auto start = std::chrono::steady_clock::now();
+    auto next = start;
+    while (!stop) {
+      if (!unplugged && (depth_files(dir / "dump") >= 5 || std::chrono::steady_clock::now() - start > std::chrono::seconds(5))) {
+        depth.mark_dead();
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        depth = sim_hw::EmulatedV4l2Node::create(prefix + "_depth", V4L2_PIX_FMT_Z16, kW, kH, 30);
+        unplugged = true;
+      }
+      ++sequence;
+      const std::int64_t t = sim_hw::monotonic_us();
+      const auto d = depth_pattern(sequence);
+      depth.publish(reinterpret_cast<const std::uint8_t*>(d.data()), d.size() * 2, sequence, t);
+      drivers::rgb_to_yuyv(rgb_pattern(sequence).data(), kW, kH, yuyv);
+      color.publish(yuyv.data(), yuyv.size(), sequence, t);
+      next += std::chrono::microseconds(33'333);
+      std::this_thread::sleep_until(next);
+    }
+  };
+  std::thread producer_thread(producer);
+  std::string output;
+  const int status = run_probe({"--config", (dir / "cell.json").string(), "--frames", "40", "--max-seconds", "8",
+                                "--dump", (dir / "dump").string()},
+                               "/dev/video0=" + prefix + "_depth,/dev/video2=" + prefix + "_color",
+                               dir / "probe.txt", output);
+  stop = true;
+  producer_thread.join();
+  INFO(output);
+  CHECK(status == 0);
+  CHECK(unplugged);
+  std::smatch m;
+  REQUIRE(std::regex_search(output, m, std::regex(R"(summary camera=cam0 frames=(\d+) .* lost=(\d+) dropped=\d+ reopened=(\d+) state=(\w+))")));
+  CHECK(std::stoi(m[1]) == 40);
+  CHECK(std::stoi(m[2]) >= 1);
+  CHECK(std::stoi(m[3]) == 1);
+  CHECK(m[4] == "active");
+
+  int checked = 0;
+  for (const auto& e : fs::directory_iterator(dir / "dump")) {
+    const std::string name = e.path().filename().string();
+    if (!name.ends_with("_depth.pgm")) continue;
+    const std::uint64_t seq = std::stoull(name.substr(5, name.size() - 5 - 10));  // cam0_<seq>_depth.pgm
+    int w = 0, h = 0, maxval = 0;
+    const auto bytes = read_pnm(e.path(), w, h, maxval);
+    REQUIRE(w == kW);
+    REQUIRE(bytes.size() == static_cast<std::size_t>(kW * kH * 2));
+    std::vector<std::uint16_t> got(kW * kH);
+    for (std::size_t i = 0; i < got.size(); ++i) got[i] = static_cast<std::uint16_t>(bytes[2 * i] << 8 | bytes[2 * i + 1]);
+    CHECK(got == depth_pattern(seq));  // exact
+    const fs::path color_file = dir / "dump" / ("cam0_" + std::to_string(seq) + "_color.ppm");
+    REQUIRE(fs::exists(color_file));
+    const auto rgb = read_pnm(color_file, w, h, maxval);
+    const auto expected = rgb_pattern(seq);
+    REQUIRE(rgb.size() == expected.size());
+    int worst = 0;
+    for (std::size_t i = 0; i < rgb.size(); ++i) worst = std::max(worst, std::abs(rgb[i] - expected[i]));
+    CHECK(worst <= 3);  // YUYV (BT.601, 8 bit) rounding
+    ++checked;
+  }
+  CHECK(checked == 40);
+}
+
+TEST_CASE("the shim passes other paths through: a missing device is reported by path", "[v4l2_emulation]") {
+  testing_support::TempDir dir("v4l2_emulation");
+  testing_support::write_file(dir / "cell.json", config_json("depth=/dev/video9"));
+  std::string output;
+  const int status = run_probe({"--config", (dir / "cell.json").string(), "--frames", "2", "--max-seconds", "1"},
+                               "/dev/video0=prepreg_nonexistent_depth", dir / "probe.txt", output);
+  INFO(output);
+  CHECK(status == 2);
+  CHECK_THAT(output, Catch::Contains("/dev/video9: open: No such file or directory"));
+  // An emulated path whose node does not exist fails like an absent device.
+  testing_support::write_file(dir / "cell.json", config_json("depth=/dev/video0"));
+  run_probe({"--config", (dir / "cell.json").string(), "--frames", "2", "--max-seconds", "1"},
+            "/dev/video0=prepreg_nonexistent_depth", dir / "probe.txt", output);
+  CHECK_THAT(output, Catch::Contains("/dev/video0: open: No such file or directory"));
+}
