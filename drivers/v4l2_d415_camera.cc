@@ -60,6 +60,7 @@ DriverResult V4l2D415Camera::configure(const CameraConfig& config) {
   config_ = config;
   uri_ = uri;
   health_ = CameraHealth{};
+  active_ = lost_ = false;  // a new configuration starts over (open_nodes closes the old nodes)
   DriverResult opened = open_nodes();
   if (!opened.ok) return DriverResult::failure(config.name + ": " + opened.message);
   health_.state = CameraState::kConfigured;
@@ -88,6 +89,7 @@ DriverResult V4l2D415Camera::start_nodes() {
 
 DriverResult V4l2D415Camera::activate() {
   if (health_.state == CameraState::kUnconfigured) return DriverResult::failure("activate() before configure()");
+  if (active_) return DriverResult::success();
   if (!depth_.is_open()) {  // deactivated before: open again
     DriverResult opened = open_nodes();
     if (!opened.ok) return DriverResult::failure(config_.name + ": " + opened.message);

@@ -85,7 +85,8 @@ int EmulatedV4l2Io::poll(pollfd* fds, nfds_t count, int timeout_ms) {
       fds[i].revents = dev ? dev->poll_events(fds[i].events) : POLLNVAL;
       ready += fds[i].revents != 0;
     }
-    if (ready > 0 || timeout_ms == 0 || std::chrono::steady_clock::now() >= deadline) return ready;
+    if (ready > 0 || timeout_ms == 0 || (timeout_ms > 0 && std::chrono::steady_clock::now() >= deadline))
+      return ready;  // a negative timeout waits for ever, as poll(2)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
