@@ -226,3 +226,42 @@ TEST_CASE("v4l2 short frame is rejected as corrupt by the monitor", "[v4l2]") {
   CHECK(cam.read(f) == drivers::ReadStatus::kCorrupt);
   CHECK_THAT(cam.health().message, Catch::Contains("depth image has 1536 pixels, intrinsics say 64x48 = 3072"));
 }
+
+TEST_CASE("v4l2 colour is paired with the depth frame nearest in time", "[v4l2]") {
+  Rig rig;
+  drivers::V4l2D415Camera cam(rig.io);
+  REQUIRE(cam.configure(rig.config).ok);
+  REQUIRE(cam.activate().ok);
+  auto put_depth = [&](std::uint64_t k, std::int64_t t) {
+    const auto d = depth_pattern(k);
+    rig.depth.publish(reinterpret_cast<const std::uint8_t*>(d.data()), d.size() * 2, k, t);
+  };
+  auto put_color = [&](std::uint64_t k, std::int64_t t) {
+    std::vector<std::uint8_t> yuyv;
+    drivers::rgb_to_yuyv(rgb_pattern(k).data(), kW, kH, yuyv);
+    rig.color.publish(yuyv.data(), yuyv.size(), k, t);
+  };
+  auto colour_is = [](const drivers::DepthFrame& f, std::uint64_t k) {
+    const auto expected = rgb_pattern(k);
+    if (f.rgb.size() != expected.size()) return false;
+    for (std::size_t j = 0; j < expected.size(); ++j)
+      if (std::abs(f.rgb[j] - expected[j]) > 3) return false;
+    return true;
+  };
+  const std::int64_t t0 = sim_hw::monotonic_us();
+  put_color(101, t0 - 20'000);  // colour runs 2 ms ahead of depth, one frame is old
+  put_color(102, t0 + 2'000);
+  put_color(103, t0 + 35'333);  // already the next depth frame's partner
+  put_depth(1, t0);
+  drivers::DepthFrame f;
+  REQUIRE(cam.read(f) == drivers::ReadStatus::kFrame);
+  CHECK(colour_is(f, 102));
+  put_depth(2, t0 + 33'333);
+  REQUIRE(cam.read(f) == drivers::ReadStatus::kFrame);
+  CHECK(colour_is(f, 103));  // carried over from the previous read
+  put_depth(3, t0 + 66'666);  // its colour never comes: the frame goes out without colour
+  REQUIRE(cam.read(f) == drivers::ReadStatus::kFrame);
+  CHECK(f.rgb.empty());
+  CHECK(f.color_intrinsics.width == 0);
+  CHECK(f.depth_mm == depth_pattern(3));
+}
