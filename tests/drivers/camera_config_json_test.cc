@@ -129,3 +129,12 @@ TEST_CASE("camera config errors name the file, camera and field", "[camera_confi
                                                                          Catch::Contains("repeats"));
   CHECK_THAT(error_of({}), Catch::Contains("cell.json: field 'cameras' must be a non-empty array"));
 }
+
+TEST_CASE("the example V4L2 cell config stays valid", "[camera_config]") {
+  const std::vector<CameraConfig> cams =
+      drivers::read_camera_configs(std::string(PREPREG_SOURCE_DIR) + "/drivers/examples/d415_v4l2_cell.json");
+  REQUIRE(cams.size() == 3);
+  CHECK(cams[0].uri.find(cams[0].serial) != std::string::npos);  // by-id paths carry the serial
+  CHECK(cams[2].color_intrinsics.width == 0);                     // depth only
+  for (const CameraConfig& c : cams) CHECK(std::abs(c.camera_to_cell.linear().determinant() - 1.0) < 1e-6);
+}
