@@ -156,6 +156,7 @@ CaptureStatus V4l2CaptureNode::next(int timeout_ms, CapturedImage& out) {
       out.sequence = buf.sequence;
       out.timestamp_us = static_cast<std::int64_t>(buf.timestamp.tv_sec) * 1000000 + buf.timestamp.tv_usec;
       out.driver_error = (buf.flags & V4L2_BUF_FLAG_ERROR) != 0 || !ok;
+      out.monotonic_clock = (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
       if (ok && xioctl(VIDIOC_QBUF, &buf) < 0) {
         fail("VIDIOC_QBUF", errno);
         return CaptureStatus::kLost;

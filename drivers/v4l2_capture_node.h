@@ -26,6 +26,7 @@ struct CapturedImage {
   std::uint64_t sequence = 0;      // driver frame counter
   std::int64_t timestamp_us = 0;   // buffer timestamp (uvcvideo: CLOCK_MONOTONIC at capture)
   bool driver_error = false;       // V4L2_BUF_FLAG_ERROR: the driver says the data is damaged
+  bool monotonic_clock = false;    // V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC: comparable with steady_clock
 };
 
 enum class CaptureStatus { kFrame, kTimeout, kLost };

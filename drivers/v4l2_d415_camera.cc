@@ -175,6 +175,12 @@ ReadStatus V4l2D415Camera::read(DepthFrame& frame) {
   ++health_.frames;
   health_.last_frame_host_time_us = frame.host_time_us;
   if (depth_image_.driver_error) return ReadStatus::kCorrupt;  // uvcvideo flagged the buffer
+  // uvcvideo stamps buffers with CLOCK_MONOTONIC, the host's steady clock: the age is exact.
+  if (depth_image_.monotonic_clock &&
+      frame.host_time_us - frame.device_time_us > std::chrono::microseconds(config_.stale_after).count()) {
+    ++health_.stale;
+    return ReadStatus::kStale;
+  }
   return ReadStatus::kFrame;
 }
 

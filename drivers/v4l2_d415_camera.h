@@ -7,6 +7,8 @@
 // paired with each, otherwise the frame goes out without colour (color_intrinsics.width 0).
 // V4L2 cannot read the calibration or the serial: intrinsics come from the config, and a
 // configured serial must appear in the depth path (by-id names carry it).
+// A frame older than stale_after on arrival (buffer timestamps are CLOCK_MONOTONIC, the host's
+// steady clock) -> kStale.
 // A lost device (ENODEV/EIO...) -> ReadStatus::kLost and state Lost; later reads try to reopen
 // both nodes, backing off from 100 ms to 2 s between attempts; read() never sleeps while lost.
 

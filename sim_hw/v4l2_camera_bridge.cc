@@ -41,7 +41,13 @@ drivers::ReadStatus V4l2CameraBridge::pump() {
   if (unplugged_) {  // the camera is back: a fresh device under the same names
     create_nodes();
     unplugged_ = false;
+    have_clock_offset_ = false;
   }
+  if (!have_clock_offset_) {
+    clock_offset_us_ = monotonic_us() - frame_.device_time_us;
+    have_clock_offset_ = true;
+  }
+  frame_.device_time_us += clock_offset_us_;
   // A frame whose size does not fit the node (a corrupt one) goes out short, as a damaged USB
   // transfer would, so the driver side sees it.
   const std::size_t depth_bytes = std::min(frame_.depth_mm.size() * 2, depth_.frame_bytes());

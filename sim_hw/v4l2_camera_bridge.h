@@ -2,8 +2,10 @@
 // Serves any DepthCamera (typically the simulated D415) as an emulated D415 V4L2 device: each
 // frame read from the camera is published into a depth node "<prefix>_depth" (Z16) and, when the
 // camera has colour, a colour node "<prefix>_color" (YUYV), which the LD_PRELOAD shim then shows
-// a process as /dev/videoN. The camera's sequence numbers and device timestamps pass through
-// unchanged, so its faults (dropped frames, frozen or stale streams) reach the V4L2 driver as
+// a process as /dev/videoN. The camera's sequence numbers pass through unchanged and its device
+// timestamps move onto CLOCK_MONOTONIC (as uvcvideo stamps buffers) by an offset fixed at the
+// first frame after each plug-in, so they still advance, stall or jump as the camera's do and
+// its faults (dropped frames, frozen or stale streams) reach the V4L2 driver as
 // they would from a real device; a lost camera marks the nodes dead (unplug) and its return
 // creates them again (plug in).
 
@@ -42,6 +44,8 @@ class V4l2CameraBridge {
   std::string prefix_;
   EmulatedV4l2Node depth_, color_;
   bool unplugged_ = false;
+  bool have_clock_offset_ = false;
+  std::int64_t clock_offset_us_ = 0;  // CLOCK_MONOTONIC - camera device clock
   std::uint64_t published_ = 0;
   drivers::DepthFrame frame_;
 };

@@ -169,6 +169,12 @@ TEST_CASE("v4l2 DQBUF retries EINTR and times out when no frame comes", "[v4l2]"
   CHECK(waited >= std::chrono::milliseconds(95));
   CHECK(waited < std::chrono::milliseconds(400));
   CHECK(cam.health().timeouts == 1);
+  // A frame that waited 600 ms (> stale_after 500 ms) somewhere before the read is stale.
+  const auto d = depth_pattern(7);
+  rig.depth.publish(reinterpret_cast<const std::uint8_t*>(d.data()), d.size() * 2, 7, sim_hw::monotonic_us() - 600'000);
+  CHECK(cam.read(f) == drivers::ReadStatus::kStale);
+  CHECK(f.depth_mm == d);  // a stale frame is still returned
+  CHECK(cam.health().stale == 1);
 }
 
 TEST_CASE("v4l2 device loss gives kLost, then reopens when the device is back", "[v4l2]") {
