@@ -3,6 +3,8 @@
 // shared memory, unplugs the depth node and plugs it back in.
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/mman.h>
 #include <linux/videodev2.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -49,9 +51,10 @@ std::string config_json(const std::string& uri) {
     "camera_to_cell": {"translation_m": [0, 0, 1.5], "rpy_deg": [180, 0, 0]}}]})";
 }
 
-// Runs camera_probe with the shim preloaded; returns the exit status, stdout in `output`.
-int run_probe(const std::vector<std::string>& args, const std::string& emulation, const fs::path& out_file,
-              std::string& output) {
+// Starts `exe` with the shim preloaded and PREPREG_V4L2_EMULATION=`emulation`, stdout and
+// stderr into `out_file`.
+pid_t spawn_with_shim(const std::string& exe, const std::vector<std::string>& args, const std::string& emulation,
+                      const fs::path& out_file) {
   std::vector<std::string> env_text = {std::string("LD_PRELOAD=") + V4L2_SHIM_SO,
                                        "PREPREG_V4L2_EMULATION=" + emulation};
   for (char** e = environ; *e; ++e)
@@ -59,7 +62,7 @@ int run_probe(const std::vector<std::string>& args, const std::string& emulation
   std::vector<char*> envp, argv;
   for (auto& s : env_text) envp.push_back(s.data());
   envp.push_back(nullptr);
-  std::vector<std::string> all = {CAMERA_PROBE_EXE};
+  std::vector<std::string> all = {exe};
   all.insert(all.end(), args.begin(), args.end());
   for (auto& s : all) argv.push_back(s.data());
   argv.push_back(nullptr);
@@ -68,9 +71,14 @@ int run_probe(const std::vector<std::string>& args, const std::string& emulation
   posix_spawn_file_actions_addopen(&actions, 1, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, CAMERA_PROBE_EXE, &actions, nullptr, argv.data(), envp.data());
+  const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   REQUIRE(spawned == 0);
+  return pid;
+}
+
+// Waits for the child; returns its exit status (-1 if killed), its output in `output`.
+int wait_for(pid_t pid, const fs::path& out_file, std::string& output) {
   int status = 0;
   REQUIRE(waitpid(pid, &status, 0) == pid);
   std::ifstream in(out_file);
@@ -80,6 +88,11 @@ int run_probe(const std::vector<std::string>& args, const std::string& emulation
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+int run_probe(const std::vector<std::string>& args, const std::string& emulation, const fs::path& out_file,
+              std::string& output) {
+  return wait_for(spawn_with_shim(CAMERA_PROBE_EXE, args, emulation, out_file), out_file, output);
+}
+
 std::vector<std::uint8_t> read_pnm(const fs::path& path, int& width, int& height, int& maxval) {
   std::ifstream in(path, std::ios::binary);
   std::string magic;
@@ -87,6 +100,34 @@ std::vector<std::uint8_t> read_pnm(const fs::path& path, int& width, int& height
   in.get();
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return bytes;
+}
+
+// Compares every frame camera_probe dumped with what was published under its sequence number:
+// depth exactly, colour within `color_tolerance` levels. Returns how many frames it checked.
+int check_dumped_frames(const fs::path& dump, int color_tolerance) {
+  int checked = 0;
+  for (const auto& e : fs::directory_iterator(dump)) {
+    const std::string name = e.path().filename().string();
+    if (!name.ends_with("_depth.pgm")) continue;
+    const std::uint64_t seq = std::stoull(name.substr(5, name.size() - 5 - 10));  // cam0_<seq>_depth.pgm
+    int w = 0, h = 0, maxval = 0;
+    const auto bytes = read_pnm(e.path(), w, h, maxval);
+    REQUIRE(w == kW);
+    REQUIRE(bytes.size() == static_cast<std::size_t>(kW * kH * 2));
+    std::vector<std::uint16_t> got(kW * kH);
+    for (std::size_t i = 0; i < got.size(); ++i) got[i] = static_cast<std::uint16_t>(bytes[2 * i] << 8 | bytes[2 * i + 1]);
+    CHECK(got == depth_pattern(seq));  // exact
+    const fs::path color_file = dump / ("cam0_" + std::to_string(seq) + "_color.ppm");
+    REQUIRE(fs::exists(color_file));
+    const auto rgb = read_pnm(color_file, w, h, maxval);
+    const auto expected = rgb_pattern(seq);
+    REQUIRE(rgb.size() == expected.size());
+    int worst = 0;
+    for (std::size_t i = 0; i < rgb.size(); ++i) worst = std::max(worst, std::abs(rgb[i] - expected[i]));
+    CHECK(worst <= color_tolerance);  // YUYV (BT.601, 8 bit) rounding
+    ++checked;
+  }
+  return checked;
 }
 
 int depth_files(const fs::path& dir) {
@@ -150,29 +191,7 @@ TEST_CASE("camera_probe reads emulated V4L2 nodes through the LD_PRELOAD shim, s
   CHECK(std::stoi(m[3]) == 1);
   CHECK(m[4] == "active");
 
-  int checked = 0;
-  for (const auto& e : fs::directory_iterator(dir / "dump")) {
-    const std::string name = e.path().filename().string();
-    if (!name.ends_with("_depth.pgm")) continue;
-    const std::uint64_t seq = std::stoull(name.substr(5, name.size() - 5 - 10));  // cam0_<seq>_depth.pgm
-    int w = 0, h = 0, maxval = 0;
-    const auto bytes = read_pnm(e.path(), w, h, maxval);
-    REQUIRE(w == kW);
-    REQUIRE(bytes.size() == static_cast<std::size_t>(kW * kH * 2));
-    std::vector<std::uint16_t> got(kW * kH);
-    for (std::size_t i = 0; i < got.size(); ++i) got[i] = static_cast<std::uint16_t>(bytes[2 * i] << 8 | bytes[2 * i + 1]);
-    CHECK(got == depth_pattern(seq));  // exact
-    const fs::path color_file = dir / "dump" / ("cam0_" + std::to_string(seq) + "_color.ppm");
-    REQUIRE(fs::exists(color_file));
-    const auto rgb = read_pnm(color_file, w, h, maxval);
-    const auto expected = rgb_pattern(seq);
-    REQUIRE(rgb.size() == expected.size());
-    int worst = 0;
-    for (std::size_t i = 0; i < rgb.size(); ++i) worst = std::max(worst, std::abs(rgb[i] - expected[i]));
-    CHECK(worst <= 3);  // YUYV (BT.601, 8 bit) rounding
-    ++checked;
-  }
-  CHECK(checked == 40);
+  CHECK(check_dumped_frames(dir / "dump", 3) == 40);
 }
 
 TEST_CASE("the shim passes other paths through: a missing device is reported by path", "[v4l2_emulation]") {
@@ -189,4 +208,64 @@ TEST_CASE("the shim passes other paths through: a missing device is reported by 
   run_probe({"--config", (dir / "cell.json").string(), "--frames", "2", "--max-seconds", "1"},
             "/dev/video0=prepreg_nonexistent_depth", dir / "probe.txt", output);
   CHECK_THAT(output, Catch::Contains("/dev/video0: open: No such file or directory"));
+}
+
+TEST_CASE("d415_v4l2_emulator serves a camera to camera_probe through the shim", "[v4l2_emulation]") {
+  // Source: nodes this test publishes into, read by the emulator's own V4L2 back-end (through the
+  // shim); the emulator serves them again as fresh nodes, which camera_probe reads (through the
+  // shim): two V4L2 hops, two YUYV round trips.
+  testing_support::TempDir dir("v4l2_emulator");
+  fs::create_directories(dir / "dump");
+  testing_support::write_file(dir / "source.json", config_json("depth=/dev/video0,color=/dev/video2"));
+  testing_support::write_file(dir / "probe.json", config_json("depth=/dev/video4,color=/dev/video6"));
+  const std::string src = "prepreg_chain_" + std::to_string(::getpid()) + "_src";
+  const std::string out = "prepreg_chain_" + std::to_string(::getpid()) + "_out";
+  sim_hw::EmulatedV4l2Node depth = sim_hw::EmulatedV4l2Node::create(src + "_depth", V4L2_PIX_FMT_Z16, kW, kH, 30);
+  sim_hw::EmulatedV4l2Node color = sim_hw::EmulatedV4l2Node::create(src + "_color", V4L2_PIX_FMT_YUYV, kW, kH, 30);
+  std::atomic<bool> stop{false};
+  std::thread producer([&] {
+    std::vector<std::uint8_t> yuyv;
+    auto next = std::chrono::steady_clock::now();
+    for (std::uint64_t k = 1; !stop; ++k) {
+      const std::int64_t t = sim_hw::monotonic_us();
+      const auto d = depth_pattern(k);
+      depth.publish(reinterpret_cast<const std::uint8_t*>(d.data()), d.size() * 2, k, t);
+      drivers::rgb_to_yuyv(rgb_pattern(k).data(), kW, kH, yuyv);
+      color.publish(yuyv.data(), yuyv.size(), k, t);
+      next += std::chrono::microseconds(33'333);
+      std::this_thread::sleep_until(next);
+    }
+  });
+  const pid_t emulator = spawn_with_shim(
+      D415_V4L2_EMULATOR_EXE,
+      {"--config", (dir / "source.json").string(), "--camera", "cam0", "--prefix", out, "--depth-device",
+       "/dev/video4", "--color-device", "/dev/video6", "--seconds", "20"},
+      "/dev/video0=" + src + "_depth,/dev/video2=" + src + "_color", dir / "emulator.txt");
+  // The emulator's nodes exist once it has opened its camera.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  for (;;) {
+    const int fd = shm_open(("/" + out + "_color").c_str(), O_RDONLY, 0);
+    if (fd >= 0) {
+      ::close(fd);
+      break;
+    }
+    if (std::chrono::steady_clock::now() > give_up) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::string probe_output, emulator_output;
+  const int status = run_probe({"--config", (dir / "probe.json").string(), "--frames", "20", "--max-seconds", "6",
+                                "--dump", (dir / "dump").string()},
+                               "/dev/video4=" + out + "_depth,/dev/video6=" + out + "_color", dir / "probe.txt",
+                               probe_output);
+  ::kill(emulator, SIGTERM);
+  const int emulator_status = wait_for(emulator, dir / "emulator.txt", emulator_output);
+  stop = true;
+  producer.join();
+  INFO(probe_output);
+  INFO(emulator_output);
+  CHECK(status == 0);
+  CHECK(emulator_status == 0);
+  CHECK_THAT(emulator_output, Catch::Contains("emulation /dev/video4=" + out + "_depth,/dev/video6=" + out + "_color"));
+  CHECK_THAT(emulator_output, Catch::Contains("uri depth=/dev/video4,color=/dev/video6"));
+  CHECK(check_dumped_frames(dir / "dump", 6) == 20);
 }
