@@ -48,11 +48,15 @@ drivers::ReadStatus V4l2CameraBridge::pump() {
     have_clock_offset_ = true;
   }
   frame_.device_time_us += clock_offset_us_;
-  // A frame whose size does not fit the node (a corrupt one) goes out short, as a damaged USB
-  // transfer would, so the driver side sees it.
-  const std::size_t depth_bytes = std::min(frame_.depth_mm.size() * 2, depth_.frame_bytes());
-  depth_.publish(reinterpret_cast<const std::uint8_t*>(frame_.depth_mm.data()), depth_bytes, frame_.sequence,
-                 frame_.device_time_us);
+  if (frame_.depth_mm.size() * 2 == depth_.frame_bytes()) {
+    publish_depth(depth_, frame_);
+  } else {
+    // A frame whose size does not fit the node (a corrupt one) goes out short, as a damaged USB
+    // transfer would, so the driver side sees it.
+    const std::size_t depth_bytes = std::min(frame_.depth_mm.size() * 2, depth_.frame_bytes());
+    depth_.publish(reinterpret_cast<const std::uint8_t*>(frame_.depth_mm.data()), depth_bytes, frame_.sequence,
+                   frame_.device_time_us);
+  }
   if (color_.valid() && frame_.rgb.size() == static_cast<std::size_t>(color_.width()) * color_.height() * 3)
     publish_color(color_, frame_);
   ++published_;
