@@ -94,6 +94,9 @@ TEST_CASE("bridge: the source's faults reach the V4L2 reader's monitor", "[v4l2_
 
   rig.source.fault = SyntheticTestCamera::Fault::kAllZero;
   CHECK(rig.step() == ReadStatus::kCorrupt);
+  rig.source.fault = SyntheticTestCamera::Fault::kWrongSize;  // goes out as a short buffer
+  CHECK(rig.step() == ReadStatus::kCorrupt);
+  CHECK_THAT(rig.reader->health().message, Catch::Contains("depth image has 736 pixels"));
 
   rig.source.fault = SyntheticTestCamera::Fault::kLost;  // dead camera: the nodes are unplugged
   CHECK(rig.step() == ReadStatus::kLost);
