@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <thread>
@@ -20,6 +19,7 @@
 #include "drivers/camera_config_json.h"
 #include "drivers/camera_registry.h"
 #include "drivers/monitored_depth_camera.h"
+#include "drivers/pnm_image.h"
 #include "sim_hw/simulated_cameras.h"
 
 namespace {
@@ -37,18 +37,6 @@ struct Probe {
   std::uint16_t min_mm = 65535, max_mm = 0;
 };
 
-void write_pgm(const std::string& path, const drivers::DepthFrame& f) {
-  std::ofstream out(path, std::ios::binary);
-  out << "P5\n" << f.depth_intrinsics.width << " " << f.depth_intrinsics.height << "\n65535\n";
-  for (std::uint16_t v : f.depth_mm) out.put(static_cast<char>(v >> 8)).put(static_cast<char>(v & 0xff));
-}
-
-void write_ppm(const std::string& path, const drivers::DepthFrame& f) {
-  std::ofstream out(path, std::ios::binary);
-  out << "P6\n" << f.color_intrinsics.width << " " << f.color_intrinsics.height << "\n255\n";
-  out.write(reinterpret_cast<const char*>(f.rgb.data()), static_cast<std::streamsize>(f.rgb.size()));
-}
-
 void account(Probe& p, const drivers::DepthFrame& f, const std::string& dump_dir) {
   ++p.delivered;
   if (p.first_host_us == 0) p.first_host_us = f.host_time_us;
@@ -63,8 +51,11 @@ void account(Probe& p, const drivers::DepthFrame& f, const std::string& dump_dir
   if (!f.rgb.empty()) ++p.with_color;
   if (dump_dir.empty()) return;
   const std::string stem = dump_dir + "/" + p.config.name + "_" + std::to_string(f.sequence);
-  write_pgm(stem + "_depth.pgm", f);
-  if (!f.rgb.empty()) write_ppm(stem + "_color.ppm", f);
+  std::string error = drivers::write_pgm16(stem + "_depth.pgm", f.depth_intrinsics.width, f.depth_intrinsics.height,
+                                           f.depth_mm);
+  if (error.empty() && !f.rgb.empty())
+    error = drivers::write_ppm8(stem + "_color.ppm", f.color_intrinsics.width, f.color_intrinsics.height, f.rgb);
+  if (!error.empty()) fmt::print(stderr, "camera_probe: {}\n", error);
 }
 
 void report(const Probe& p) {

@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "drivers/pnm_image.h"
 #include "drivers/yuyv_color.h"
 #include "sim_hw/emulated_v4l2_node.h"
 #include "tests/support/temp_dir.h"
@@ -93,15 +94,6 @@ int run_probe(const std::vector<std::string>& args, const std::string& emulation
   return wait_for(spawn_with_shim(CAMERA_PROBE_EXE, args, emulation, out_file), out_file, output);
 }
 
-std::vector<std::uint8_t> read_pnm(const fs::path& path, int& width, int& height, int& maxval) {
-  std::ifstream in(path, std::ios::binary);
-  std::string magic;
-  in >> magic >> width >> height >> maxval;
-  in.get();
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return bytes;
-}
-
 // Compares every frame camera_probe dumped with what was published under its sequence number:
 // depth exactly, colour within `color_tolerance` levels. Returns how many frames it checked.
 int check_dumped_frames(const fs::path& dump, int color_tolerance) {
@@ -110,16 +102,11 @@ int check_dumped_frames(const fs::path& dump, int color_tolerance) {
     const std::string name = e.path().filename().string();
     if (!name.ends_with("_depth.pgm")) continue;
     const std::uint64_t seq = std::stoull(name.substr(5, name.size() - 5 - 10));  // cam0_<seq>_depth.pgm
-    int w = 0, h = 0, maxval = 0;
-    const auto bytes = read_pnm(e.path(), w, h, maxval);
-    REQUIRE(w == kW);
-    REQUIRE(bytes.size() == static_cast<std::size_t>(kW * kH * 2));
-    std::vector<std::uint16_t> got(kW * kH);
-    for (std::size_t i = 0; i < got.size(); ++i) got[i] = static_cast<std::uint16_t>(bytes[2 * i] << 8 | bytes[2 * i + 1]);
+    const std::vector<std::uint16_t> got = drivers::read_pgm16(e.path(), kW, kH);
     CHECK(got == depth_pattern(seq));  // exact
     const fs::path color_file = dump / ("cam0_" + std::to_string(seq) + "_color.ppm");
     REQUIRE(fs::exists(color_file));
-    const auto rgb = read_pnm(color_file, w, h, maxval);
+    const auto rgb = drivers::read_ppm8(color_file, kW, kH);
     const auto expected = rgb_pattern(seq);
     REQUIRE(rgb.size() == expected.size());
     int worst = 0;
