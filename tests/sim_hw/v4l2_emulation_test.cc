@@ -19,6 +19,8 @@
 #include <sstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "drivers/pnm_image.h"
 #include "drivers/yuyv_color.h"
 #include "sim_hw/emulated_v4l2_node.h"
@@ -115,6 +117,23 @@ int check_dumped_frames(const fs::path& dump, int color_tolerance) {
     ++checked;
   }
   return checked;
+}
+
+// The emulator's nodes exist once it has opened its camera (gives up after 10 s or when the
+// emulator `pid` has exited).
+void wait_for_node(const std::string& name, pid_t pid) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < give_up) {
+    siginfo_t info{};
+    if (waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid == pid)
+      return;  // exited (not reaped here: wait_for() collects it)
+    const int fd = shm_open(("/" + name).c_str(), O_RDONLY, 0);
+    if (fd >= 0) {
+      ::close(fd);
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
 }
 
 int depth_files(const fs::path& dir) {
@@ -228,17 +247,7 @@ TEST_CASE("d415_v4l2_emulator serves a camera to camera_probe through the shim",
       {"--config", (dir / "source.json").string(), "--camera", "cam0", "--prefix", out, "--depth-device",
        "/dev/video4", "--color-device", "/dev/video6", "--seconds", "20"},
       "/dev/video0=" + src + "_depth,/dev/video2=" + src + "_color", dir / "emulator.txt");
-  // The emulator's nodes exist once it has opened its camera.
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  for (;;) {
-    const int fd = shm_open(("/" + out + "_color").c_str(), O_RDONLY, 0);
-    if (fd >= 0) {
-      ::close(fd);
-      break;
-    }
-    if (std::chrono::steady_clock::now() > give_up) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  wait_for_node(out + "_color", emulator);
   std::string probe_output, emulator_output;
   const int status = run_probe({"--config", (dir / "probe.json").string(), "--frames", "20", "--max-seconds", "6",
                                 "--dump", (dir / "dump").string()},
@@ -255,4 +264,55 @@ TEST_CASE("d415_v4l2_emulator serves a camera to camera_probe through the shim",
   CHECK_THAT(emulator_output, Catch::Contains("emulation /dev/video4=" + out + "_depth,/dev/video6=" + out + "_color"));
   CHECK_THAT(emulator_output, Catch::Contains("uri depth=/dev/video4,color=/dev/video6"));
   CHECK(check_dumped_frames(dir / "dump", 6) == 20);
+}
+
+TEST_CASE("a simulated D415 through the V4L2 emulation: its faults reach camera_probe", "[v4l2_emulation]") {
+  // The issue's CI path: simulated D415 (sim_hw) -> d415_v4l2_emulator -> shm nodes -> shim ->
+  // the real V4L2 back-end and frame monitor in camera_probe. The scene dies, freezes and stalls
+  // its clock for 0.4 s each.
+  testing_support::TempDir dir("v4l2_simulated");
+  nlohmann::json scene = nlohmann::json::parse(
+      std::ifstream(std::string(PREPREG_SOURCE_DIR) + "/sim_hw/scenes/d415_table_scene.json"));
+  scene["faults"] = {{"dead_from_s", 1.0}, {"dead_until_s", 1.4}, {"frozen_from_s", 2.0}, {"frozen_until_s", 2.4},
+                     {"stale_from_s", 3.0}, {"stale_until_s", 3.4}, {"stale_mode", "stopped"}};
+  testing_support::write_file(dir / "scene.json", scene.dump());
+  const std::string camera = R"({"cameras": [{"name": "cam_front", "backend": "BACKEND", "uri": "URI",
+    "depth_mode": {"width": 848, "height": 480, "fps": 30}, "color_mode": {"width": 848, "height": 480, "fps": 30},
+    "depth_intrinsics": {"width": 848, "height": 480, "fx": 665.6, "fy": 665.6, "cx": 424, "cy": 240},
+    "color_intrinsics": {"width": 848, "height": 480, "fx": 617, "fy": 617, "cx": 424, "cy": 240},
+    "depth_to_color": {"translation_m": [0.015, 0, 0], "quaternion_wxyz": [1, 0, 0, 0]},
+    "camera_to_cell": {"translation_m": [0, -1.5, 1.25], "rpy_deg": [-90, 0, 0]}}]})";
+  auto config = [&](const std::string& backend, const std::string& uri) {
+    std::string text = camera;
+    text.replace(text.find("BACKEND"), 7, backend);
+    text.replace(text.find("URI"), 3, uri);
+    return text;
+  };
+  testing_support::write_file(dir / "sim.json", config("simulated", (dir / "scene.json").string()));
+  testing_support::write_file(dir / "v4l2.json", config("v4l2", "depth=/dev/video0,color=/dev/video2"));
+  const std::string prefix = "prepreg_simd415_" + std::to_string(::getpid());
+  const pid_t emulator = spawn_with_shim(
+      D415_V4L2_EMULATOR_EXE,
+      {"--config", (dir / "sim.json").string(), "--camera", "cam_front", "--prefix", prefix, "--seconds", "30"}, "",
+      dir / "emulator.txt");
+  wait_for_node(prefix + "_color", emulator);
+  std::string output, emulator_output;
+  const int status = run_probe({"--config", (dir / "v4l2.json").string(), "--frames", "120", "--max-seconds", "12"},
+                               "/dev/video0=" + prefix + "_depth,/dev/video2=" + prefix + "_color",
+                               dir / "probe.txt", output);
+  ::kill(emulator, SIGTERM);
+  wait_for(emulator, dir / "emulator.txt", emulator_output);
+  INFO(output);
+  INFO(emulator_output);
+  CHECK(status == 0);
+  std::smatch m;
+  REQUIRE(std::regex_search(output, m, std::regex(R"(summary camera=cam_front frames=(\d+) fps=[\d.]+ valid=([\d.]+) .* stale=(\d+) frozen=(\d+) corrupt=(\d+) lost=(\d+) dropped=\d+ reopened=(\d+) state=(\w+))")));
+  CHECK(std::stoi(m[1]) == 120);
+  CHECK(std::stod(m[2]) > 20.0);      // the sheet, table and floor are in view
+  CHECK(std::stoi(m[3]) >= 8);        // 0.4 s of a stopped clock: all but the first frame or two
+  CHECK(std::stoi(m[4]) >= 8);        // 0.4 s frozen: flagged from the second repeat on
+  CHECK(std::stoi(m[5]) == 0);
+  CHECK(std::stoi(m[6]) >= 1);        // the dead camera was lost ...
+  CHECK(std::stoi(m[7]) == 1);        // ... and reopened once it came back
+  CHECK(m[8] == "active");
 }
