@@ -6,7 +6,9 @@
 // timestamps move onto CLOCK_MONOTONIC (as uvcvideo stamps buffers) by an offset fixed at the
 // first frame after each plug-in, so they still advance, stall or jump as the camera's do and
 // its faults (dropped frames, frozen or stale streams) reach the V4L2 driver as
-// they would from a real device; a lost camera marks the nodes dead (unplug) and its return
+// they would from a real device. The camera's clock must run at real time, as a device's does
+// (a simulated D415: scene "clock": "wall"); a simulated clock that falls behind real time
+// whenever rendering is slow would make its frames look late, i.e. stale. a lost camera marks the nodes dead (unplug) and its return
 // creates them again (plug in).
 
 #include <memory>

@@ -4,6 +4,8 @@
 //   d415_v4l2_emulator --config sim_cell.json --camera cam_left --prefix prepreg_cam_left &
 //   PREPREG_V4L2_EMULATION=<printed spec> LD_PRELOAD=<libprepreg_v4l2_shim.so>
 //     camera_probe --config v4l2_cell.json      (uri = the printed v4l2 uri)
+// Use a real-time camera (a simulated D415 scene with "clock": "wall"): a simulated clock falls
+// behind real time when rendering is slow and its frames then look stale to the reader.
 // Prints "emulation <spec>" and "uri <uri>" lines at start, then publishes each frame the camera
 // delivers (its faults included) until --seconds pass (0 = until killed) or SIGINT/SIGTERM.
 
