@@ -10,6 +10,7 @@ const char* to_string(ReadStatus status) {
     case ReadStatus::kFrozen: return "frozen";
     case ReadStatus::kLost: return "lost";
     case ReadStatus::kNotActive: return "not active";
+    case ReadStatus::kCorrupt: return "corrupt";
   }
   return "?";
 }

@@ -51,7 +51,9 @@ struct CameraConfig {
   double depth_unit_mm = 1.0;   // millimetres per raw depth count (D415 default 1.0)
   std::chrono::milliseconds read_timeout{200};  // read() waits at most this long
   std::chrono::milliseconds stale_after{500};   // frame older than this (host clock) = stale
-  int frozen_after_frames = 5;  // identical depth images in a row = frozen stream
+  // Identical depth images in a row = frozen stream. 3 flags a freeze on its second repeated
+  // frame (issue 4: within 3 frames); a live D415's depth noise never repeats an image exactly.
+  int frozen_after_frames = 3;
 };
 
 struct DepthFrame {
@@ -82,6 +84,7 @@ enum class ReadStatus {
   kFrozen,     // the stream repeats the same image (returned, flagged)
   kLost,       // the device went away; the driver tries to reopen on later reads
   kNotActive,  // read() before activate()
+  kCorrupt,    // a frame arrived but is unusable (size vs intrinsics, all zero, NaN pose); do not use
 };
 
 enum class CameraState { kUnconfigured, kConfigured, kActive, kDegraded, kLost };

@@ -1,0 +1,190 @@
+#include "drivers/camera_config_json.h"
+
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <set>
+#include <stdexcept>
+
+namespace drivers {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kQuaternionTolerance = 1e-3;  // |q| may differ from 1 by this much
+
+// A value with the text that locates it ("cell.json: camera 1 (cam_right): field 'x.y'").
+class Field {
+ public:
+  Field(const json& value, std::string where, std::string path)
+      : value_(value), where_(std::move(where)), path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::invalid_argument(where_ + ": field '" + path_ + "' " + what);
+  }
+  bool has(const char* key) const { return value_.contains(key); }
+  Field operator[](const char* key) const {
+    if (!value_.contains(key)) Field(value_, where_, child(key)).fail("is missing");
+    return Field(value_.at(key), where_, child(key));
+  }
+  void only_keys(std::initializer_list<const char*> known) const {
+    if (!value_.is_object()) fail("must be an object");
+    for (const auto& item : value_.items()) {
+      bool ok = false;
+      for (const char* k : known) ok |= item.key() == k;
+      if (ok) continue;
+      std::string list;
+      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      Field(item.value(), where_, child(item.key())).fail("is not a known field; expected one of: " + list);
+    }
+  }
+  double number() const {
+    if (!value_.is_number()) fail("must be a number");
+    const double v = value_.get<double>();
+    if (!std::isfinite(v)) fail("must be finite");
+    return v;
+  }
+  double positive() const {
+    const double v = number();
+    if (v <= 0) fail("must be > 0 (got " + std::to_string(v) + ")");
+    return v;
+  }
+  int positive_int() const {
+    if (!value_.is_number_integer() || value_.get<long long>() <= 0 || value_.get<long long>() > 1000000)
+      fail("must be a positive integer");
+    return value_.get<int>();
+  }
+  std::string string() const {
+    if (!value_.is_string()) fail("must be a string");
+    return value_.get<std::string>();
+  }
+  std::vector<double> numbers(std::size_t n) const {
+    if (!value_.is_array() || value_.size() != n)
+      fail("must be an array of " + std::to_string(n) + " numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < n; ++i)
+      out.push_back(Field(value_[i], where_, path_ + "[" + std::to_string(i) + "]").number());
+    return out;
+  }
+
+ private:
+  std::string child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  const json& value_;
+  std::string where_, path_;
+};
+
+StreamMode parse_mode(const Field& f) {
+  f.only_keys({"width", "height", "fps"});
+  return {f["width"].positive_int(), f["height"].positive_int(), f["fps"].positive_int()};
+}
+
+Intrinsics parse_intrinsics(const Field& f, const StreamMode& mode, const char* mode_name) {
+  f.only_keys({"width", "height", "fx", "fy", "cx", "cy", "distortion"});
+  Intrinsics k;
+  k.width = f["width"].positive_int();
+  k.height = f["height"].positive_int();
+  if (k.width != mode.width || k.height != mode.height)
+    f.fail("size " + std::to_string(k.width) + "x" + std::to_string(k.height) + " must equal " +
+           mode_name + " " + std::to_string(mode.width) + "x" + std::to_string(mode.height));
+  k.fx = f["fx"].positive();
+  k.fy = f["fy"].positive();
+  k.cx = f["cx"].number();
+  k.cy = f["cy"].number();
+  if (f.has("distortion")) {
+    const std::vector<double> d = f["distortion"].numbers(5);
+    k.k1 = d[0], k.k2 = d[1], k.p1 = d[2], k.p2 = d[3], k.k3 = d[4];
+  }
+  return k;
+}
+
+Eigen::Isometry3d parse_pose(const Field& f) {
+  f.only_keys({"translation_m", "quaternion_wxyz", "rpy_deg"});
+  const std::vector<double> t = f["translation_m"].numbers(3);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+  const bool has_q = f.has("quaternion_wxyz"), has_rpy = f.has("rpy_deg");
+  if (has_q == has_rpy) f.fail("must give exactly one of quaternion_wxyz [w, x, y, z] or rpy_deg [r, p, y]");
+  if (has_q) {
+    const std::vector<double> q = f["quaternion_wxyz"].numbers(4);
+    Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+    if (std::abs(quat.norm() - 1.0) > kQuaternionTolerance)
+      f["quaternion_wxyz"].fail("must be a unit quaternion (|q| = " + std::to_string(quat.norm()) + ")");
+    pose.linear() = quat.normalized().toRotationMatrix();
+  } else {
+    const std::vector<double> rpy = f["rpy_deg"].numbers(3);
+    const double k = M_PI / 180.0;
+    pose.linear() = (Eigen::AngleAxisd(rpy[2] * k, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(rpy[1] * k, Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(rpy[0] * k, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  }
+  return pose;
+}
+
+CameraConfig parse_camera(const json& value, const std::string& where) {
+  const Field f(value, where, "");
+  f.only_keys({"name", "backend", "uri", "serial", "depth_mode", "color_mode", "depth_intrinsics",
+               "color_intrinsics", "depth_to_color", "camera_to_cell", "depth_unit_mm",
+               "read_timeout_ms", "stale_after_ms", "frozen_after_frames"});
+  CameraConfig c;
+  c.name = f["name"].string();
+  if (c.name.empty()) f["name"].fail("must not be empty");
+  c.backend = f["backend"].string();
+  c.uri = f["uri"].string();
+  if (f.has("serial")) c.serial = f["serial"].string();
+  if (f.has("depth_mode")) c.depth_mode = parse_mode(f["depth_mode"]);
+  if (f.has("color_mode")) c.color_mode = parse_mode(f["color_mode"]);
+  c.depth_intrinsics = parse_intrinsics(f["depth_intrinsics"], c.depth_mode, "depth_mode");
+  if (f.has("color_intrinsics"))
+    c.color_intrinsics = parse_intrinsics(f["color_intrinsics"], c.color_mode, "color_mode");
+  if (f.has("depth_to_color")) c.depth_to_color = parse_pose(f["depth_to_color"]);
+  c.camera_to_cell = parse_pose(f["camera_to_cell"]);
+  if (f.has("depth_unit_mm")) c.depth_unit_mm = f["depth_unit_mm"].positive();
+  if (f.has("read_timeout_ms"))
+    c.read_timeout = std::chrono::milliseconds(f["read_timeout_ms"].positive_int());
+  if (f.has("stale_after_ms"))
+    c.stale_after = std::chrono::milliseconds(f["stale_after_ms"].positive_int());
+  if (f.has("frozen_after_frames")) {
+    c.frozen_after_frames = f["frozen_after_frames"].positive_int();
+    if (c.frozen_after_frames < 2) f["frozen_after_frames"].fail("must be >= 2 (images in a row)");
+  }
+  return c;
+}
+
+}  // namespace
+
+std::vector<CameraConfig> parse_camera_configs(const json& document, const std::string& source) {
+  const json* cameras = &document;
+  if (document.is_object()) {
+    if (!document.contains("cameras")) throw std::invalid_argument(source + ": field 'cameras' is missing");
+    cameras = &document.at("cameras");
+  }
+  if (!cameras->is_array() || cameras->empty())
+    throw std::invalid_argument(source + ": field 'cameras' must be a non-empty array of camera objects");
+  std::vector<CameraConfig> out;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < cameras->size(); ++i) {
+    const json& cam = (*cameras)[i];
+    std::string where = source + ": camera " + std::to_string(i);
+    if (cam.is_object() && cam.contains("name") && cam["name"].is_string())
+      where += " (" + cam["name"].get<std::string>() + ")";
+    if (!cam.is_object()) throw std::invalid_argument(where + " must be an object");
+    out.push_back(parse_camera(cam, where));
+    if (!names.insert(out.back().name).second)
+      throw std::invalid_argument(where + ": field 'name' repeats an earlier camera's name");
+  }
+  return out;
+}
+
+std::vector<CameraConfig> read_camera_configs(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open camera config file");
+  json document;
+  try {
+    document = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(path + ": not valid JSON: " + e.what());
+  }
+  return parse_camera_configs(document, path);
+}
+
+}  // namespace drivers
