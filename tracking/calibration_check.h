@@ -16,6 +16,9 @@ namespace tracking {
 
 struct CalibrationCheckOptions {
   bool enabled = true;
+  // A camera knocked out of calibration stays so; checking twice a second at 30 Hz is enough and
+  // keeps the check (as costly as a third of a cycle) out of most cycles.
+  int every_n_cycles = 15;
   double voxel_m = 0.01;         // per-camera averaging before the comparison
   double plane_radius_m = 0.02;  // neighbourhood of camera b that defines the plane at a point
   int min_plane_points = 6;

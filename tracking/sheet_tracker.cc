@@ -1,6 +1,7 @@
 // One tracker cycle: runs the stages in order and times them.
 #include "tracking/sheet_tracker.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <fmt/format.h>
@@ -97,8 +98,13 @@ TrackResult SheetTracker::track(const std::vector<drivers::DepthFrame>& frames,
   r.times.coverage_ms = ms_since(t);
   r.prediction_error = compute_prediction_error(resampled_, prediction.vertices_m, r.vertices_m);
   r.times.prediction_error_ms = ms_since(t);
-  r.calibration = check_calibration(sheet_, static_cast<int>(r.cameras_used.size()),
-                                    config_.calibration);
+  // Only cycles that tracked count, so the first good cycle always checks.
+  const int every = std::max(config_.calibration.every_n_cycles, 1);
+  if (config_.calibration.enabled && cycle_++ % every == 0) {
+    r.calibration = check_calibration(sheet_, static_cast<int>(r.cameras_used.size()),
+                                      config_.calibration);
+    r.calibration_checked = true;
+  }
   r.times.calibration_ms = ms_since(t);
   return finish(TrackStatus::kOk, {});
 }

@@ -58,6 +58,7 @@ struct TrackResult {
   std::vector<double> vertex_distance_to_cloud_m;  // NaN when none near
   Coverage coverage;
   PredictionError prediction_error;
+  bool calibration_checked = false;              // this cycle ran the calibration check
   std::vector<CameraPairAgreement> calibration;  // indices into cameras_used
   SegmentationCounts segmentation;
   int fused_points = 0, sheet_points = 0, resampled_points = 0;
@@ -81,6 +82,7 @@ class SheetTracker {
   SurfaceRegistration registration_;
   SensorCloud fused_, sheet_;  // reused across cycles
   std::vector<Eigen::Vector3f> resampled_;
+  long cycle_ = 0;
 };
 
 }  // namespace tracking

@@ -14,12 +14,11 @@ Coverage compute_coverage(const std::vector<Vec3>& vertices_m,
   const int n = static_cast<int>(vertices_m.size());
   c.covered.assign(n, 0);
   const std::vector<double> area = vertex_areas(vertices_m, triangles);
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < n; ++i) {
-    c.covered[i] = cloud.count_within(vertices_m[i].cast<float>(),
-                                      static_cast<float>(options.radius_m),
-                                      options.min_points) >= options.min_points;
-  }
+  std::vector<Eigen::Vector3f> query(n);
+  for (int i = 0; i < n; ++i) query[i] = vertices_m[i].cast<float>();
+  std::vector<int> counts;
+  cloud.count_within(query, static_cast<float>(options.radius_m), options.min_points, counts);
+  for (int i = 0; i < n; ++i) c.covered[i] = counts[i] >= options.min_points;
   double seen = 0.0, total = 0.0;
   for (int i = 0; i < n; ++i) {
     total += area[i];
@@ -46,12 +45,12 @@ PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& obs
   PointIndex index;
   index.build(predicted);
   const int m = static_cast<int>(observed_m.size());
+  std::vector<int> nearest;
+  std::vector<float> d2;
+  index.nearest(observed_m, std::numeric_limits<float>::infinity(), nearest, d2);
   double sum = 0.0, worst = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : sum) reduction(max : worst)
   for (int k = 0; k < m; ++k) {
-    float d2 = 0.0f;
-    index.nearest(observed_m[k], std::numeric_limits<float>::max(), &d2);
-    const double d = std::sqrt(static_cast<double>(d2));
+    const double d = std::sqrt(static_cast<double>(d2[k]));
     sum += d;
     worst = std::max(worst, d);
   }

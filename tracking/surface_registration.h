@@ -2,18 +2,19 @@
 // Stage 4 of the tracker: non-rigid registration of the predicted mesh to the sheet's cloud,
 // started from the prediction.
 //
-// Energy over the vertex positions x (prediction p, cloud point c_i matched to vertex i, n_i the
-// current mesh normal at vertex i):
-//   sum_i w_i [ (n_i . (x_i - c_i))^2 + mu |x_i - c_i|^2 ]              point-to-plane data term
-// + lambda sum_edges |(x_a - x_b) - (p_a - p_b)|^2                       keeps the predicted shape
-// + eps sum_i |x_i - p_i|^2                                              anchors the null space
-// Each Gauss-Newton iteration fixes the matches (closest cloud point per vertex, within a gate
-// that shrinks over the iterations) and the normals, which makes the energy quadratic: one
-// sparse symmetric solve. The matrix pattern depends only on the mesh topology, so the symbolic
-// analysis (ordering, elimination tree) is done once and reused across iterations and cycles.
+// Each Gauss-Newton iteration moves every vertex along its current normal n_i by s_i (x_i =
+// x~_i + s_i n_i; depth tells where the surface is, not which material point is where, so the
+// tangential placement is left to the prediction) and minimises over s
+//   sum_i w_i (s_i - n_i . (c_i - x~_i))^2                      point-to-plane, c_i the closest
+//                                                               cloud point within a gate
+// + lambda sum_edges |(x_a - x_b) - (p_a - p_b)|^2              keeps the predicted shape (p)
+// + eps sum_i |x_i - p_i|^2                                     anchors parts nobody sees
+// with the matches and normals fixed, which is quadratic in s: one sparse symmetric solve with
+// the pattern of the mesh graph (n unknowns, not 3n). The pattern depends only on the topology,
+// so the symbolic analysis (ordering, elimination tree) is done once and reused across
+// iterations and cycles. The gate shrinks over the iterations as the mesh approaches the cloud.
 // The edge term penalises the gradient of the displacement x - p, so parts no camera sees move
-// with their seen neighbours and blend smoothly into the prediction (the point-to-point share mu
-// is small: depth only tells where the surface is, not which material point is where).
+// with their seen neighbours and blend smoothly into the prediction.
 
 #include <memory>
 #include <string>
@@ -31,7 +32,6 @@ struct RegistrationOptions {
   // Length (m) over which the displacement is smoothed; the edge weight lambda is
   // (smoothing_length / mean edge length)^2 so the result does not depend on mesh resolution.
   double smoothing_length_m = 0.04;
-  double tangential_weight = 0.02;  // mu
   double prior_weight = 1e-3;       // eps
   double converged_step_m = 2e-4;   // stop when no vertex moved more than this
   double observed_distance_m = 0.012;  // a vertex with a cloud point this close was observed

@@ -202,10 +202,11 @@ drivers::DepthFrame render_frame(const Scene& scene, const CameraSetup& camera,
 }
 
 std::vector<CameraSetup> three_cameras(int width, int height) {
-  const Vec3 target(0, 0, 0.8);
-  return {look_at_camera("cam_front", Vec3(0.0, -1.1, 1.9), target, width, height),
-          look_at_camera("cam_right", Vec3(1.0, 0.65, 1.75), target, width, height),
-          look_at_camera("cam_left", Vec3(-1.0, 0.65, 1.6), target, width, height)};
+  // Each camera is aimed at its own part of the sheet, so the three together see all of it and
+  // any two miss some.
+  return {look_at_camera("cam_front", Vec3(0.0, -1.0, 1.75), Vec3(0, -0.35, 0.8), width, height),
+          look_at_camera("cam_right", Vec3(1.0, 0.6, 1.7), Vec3(0.4, 0.25, 0.8), width, height),
+          look_at_camera("cam_left", Vec3(-1.0, 0.6, 1.6), Vec3(-0.4, 0.25, 0.8), width, height)};
 }
 
 Scene sheet_scene(const SheetShape& shape, std::shared_ptr<const SaggingSheet>* sheet_out) {
