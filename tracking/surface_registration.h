@@ -15,6 +15,9 @@
 // iterations and cycles. The gate shrinks over the iterations as the mesh approaches the cloud.
 // The edge term penalises the gradient of the displacement x - p, so parts no camera sees move
 // with their seen neighbours and blend smoothly into the prediction.
+// Limitation: a prediction off along a direction other than the normal keeps its tangential
+// part (which depth cannot observe), so on a slope a border vertex can end up to about
+// offset * sin(slope) beyond the edge the cameras saw.
 
 #include <memory>
 #include <string>
