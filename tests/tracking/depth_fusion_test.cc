@@ -50,6 +50,9 @@ TEST_CASE("fusion puts noise-free pixels on the analytic surfaces, distorted len
   }
   const drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{0.0, 1});
   DepthFusion fusion;
+  FusionOptions every_pixel;
+  every_pixel.pixel_stride = 1;
+  fusion.set_options(every_pixel);
   SensorCloud cloud;
   const FrameReport report = fusion.add_frame(frame, 2, cloud);
   REQUIRE(report.status == FrameStatus::kOk);
@@ -80,6 +83,8 @@ TEST_CASE("pixel stride decimates the frame", "[tracker][fusion]") {
   const drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{});
   DepthFusion full, half;
   FusionOptions o;
+  o.pixel_stride = 1;
+  full.set_options(o);
   o.pixel_stride = 2;
   half.set_options(o);
   SensorCloud a, b;
