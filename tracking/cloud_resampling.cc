@@ -1,6 +1,7 @@
 // Voxel grid and outlier removal through PCL (stage 3).
 #include "tracking/cloud_resampling.h"
 
+#include <pcl/filters/approximate_voxel_grid.h>
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_cloud.h>
@@ -18,10 +19,15 @@ std::vector<Eigen::Vector3f> resample_cloud(const std::vector<Eigen::Vector3f>& 
     (*cloud)[i].getVector3fMap() = points_m[i];
   }
   pcl::PointCloud<pcl::PointXYZ>::Ptr voxels(new pcl::PointCloud<pcl::PointXYZ>);
-  if (options.voxel_m > 0.0) {
+  const float leaf = static_cast<float>(options.voxel_m);
+  if (options.voxel_m > 0.0 && options.approximate) {
+    pcl::ApproximateVoxelGrid<pcl::PointXYZ> grid;
+    grid.setInputCloud(cloud);
+    grid.setLeafSize(leaf, leaf, leaf);
+    grid.filter(*voxels);
+  } else if (options.voxel_m > 0.0) {
     pcl::VoxelGrid<pcl::PointXYZ> grid;
     grid.setInputCloud(cloud);
-    const float leaf = static_cast<float>(options.voxel_m);
     grid.setLeafSize(leaf, leaf, leaf);
     grid.filter(*voxels);
   } else {

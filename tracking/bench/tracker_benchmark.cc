@@ -70,6 +70,9 @@ int main(int argc, char** argv) {
   int iterations = tracking::RegistrationOptions{}.max_iterations;
   app.add_option("--iterations", iterations, "registration Gauss-Newton iterations at most")
       ->check(CLI::PositiveNumber);
+  bool approximate_voxels = false;
+  app.add_flag("--approximate-voxels", approximate_voxels,
+               "pcl::ApproximateVoxelGrid instead of pcl::VoxelGrid");
   app.add_option("--voxel-m", voxel_m, "voxel size (m)")->check(CLI::PositiveNumber);
   app.add_option("--calibration-every", calibration_every,
                  "run the calibration check every N cycles (0 = never)")->check(CLI::NonNegativeNumber);
@@ -105,6 +108,7 @@ int main(int argc, char** argv) {
     config.segmentation.box_max_m = tracking::Vec3(0.9, 0.8, 1.3);
     config.fusion.pixel_stride = stride;
     config.resample.voxel_m = voxel_m;
+    config.resample.approximate = approximate_voxels;
     config.registration.max_iterations = iterations;
     config.calibration.enabled = calibration_every > 0;
     config.calibration.every_n_cycles = std::max(calibration_every, 1);
