@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "tests/tracking/analytic_scene.h"
+#include "tracking/cloud_surface.h"
 #include "tracking/sheet_tracker.h"
 
 namespace {
@@ -76,6 +78,10 @@ int main(int argc, char** argv) {
   app.add_option("--voxel-m", voxel_m, "voxel size (m)")->check(CLI::PositiveNumber);
   app.add_option("--calibration-every", calibration_every,
                  "run the calibration check every N cycles (0 = never)")->check(CLI::NonNegativeNumber);
+  std::string ply_dir;
+  app.add_option("--ply", ply_dir,
+                 "write the last cycle's tracked surface and the PCL reconstruction of its cloud "
+                 "to DIR/tracked_<res>.ply and DIR/cloud_surface_<res>.ply");
   CLI11_PARSE(app, argc, argv);
 
   SheetShape truth;
@@ -157,6 +163,24 @@ int main(int argc, char** argv) {
                text, 1e3 * *std::max_element(mean_err.begin(), mean_err.end()),
                1e3 * *std::max_element(max_err.begin(), max_err.end()));
     fmt::print("load average after {}: {}\n", text, load_average());
+    if (!ply_dir.empty()) {
+      const tracking::TrackResult r = tracker.track(sets[0], prediction);
+      tracking::SurfaceMesh tracked = prediction;
+      tracked.vertices_m = r.vertices_m;
+      const auto start = std::chrono::steady_clock::now();
+      const tracking::SurfaceMesh display =
+          tracking::reconstruct_surface(tracker.last_resampled_cloud(), {});
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      try {
+        tracking::write_ply(fmt::format("{}/tracked_{}.ply", ply_dir, text), tracked);
+        tracking::write_ply(fmt::format("{}/cloud_surface_{}.ply", ply_dir, text), display);
+      } catch (const std::exception& e) {
+        fmt::print(stderr, "{}\n", e.what());
+        return 1;
+      }
+      fmt::print("display reconstruction {}: {} triangles from {} points in {:.1f} ms\n", text,
+                 display.triangles.size(), tracker.last_resampled_cloud().size(), ms);
+    }
   }
   return 0;
 }
