@@ -29,6 +29,7 @@ const char* to_string(TrackStatus status) {
     case TrackStatus::kSheetNotSeen: return "sheet not seen";
     case TrackStatus::kBadPrediction: return "bad prediction";
     case TrackStatus::kRegistrationFailed: return "registration failed";
+    case TrackStatus::kInternalError: return "internal error";
   }
   return "unknown";
 }
@@ -40,6 +41,21 @@ SheetTracker::SheetTracker(TrackerConfig config) : config_(std::move(config)) {
 
 TrackResult SheetTracker::track(const std::vector<drivers::DepthFrame>& frames,
                                 const SurfaceMesh& prediction) {
+  // The stages report bad data by status; what is left to throw is the libraries' own failures
+  // (allocation), which the real-time caller must see as a failed cycle, not an exception.
+  try {
+    return run_cycle(frames, prediction);
+  } catch (const std::exception& e) {
+    TrackResult r;
+    r.status = TrackStatus::kInternalError;
+    r.message = e.what();
+    r.vertices_m = prediction.vertices_m;
+    return r;
+  }
+}
+
+TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& frames,
+                                    const SurfaceMesh& prediction) {
   TrackResult r;
   const Clock::time_point cycle_start = Clock::now();
   Clock::time_point t = cycle_start;

@@ -8,7 +8,8 @@
 //          -> calibration check between cameras
 //
 // The cyclic path never throws: corrupt frames are rejected per frame, and the result's status
-// says whether the cycle produced a tracked surface.
+// says whether the cycle produced a tracked surface. Not thread-safe: one tracker per thread (it
+// keeps buffers and the registration's factorisation between cycles).
 
 #include <string>
 #include <vector>
@@ -39,6 +40,7 @@ enum class TrackStatus {
   kSheetNotSeen,   // frames were fine but too few points passed segmentation
   kBadPrediction,  // the predicted mesh is unusable (see message)
   kRegistrationFailed,
+  kInternalError,  // a library threw (out of memory, ...); the message says what
 };
 const char* to_string(TrackStatus status);
 
@@ -71,12 +73,15 @@ class SheetTracker {
   explicit SheetTracker(TrackerConfig config = {});
   const TrackerConfig& config() const { return config_; }
 
+  // One cycle. Never throws: whatever goes wrong ends in the result's status.
   TrackResult track(const std::vector<drivers::DepthFrame>& frames, const SurfaceMesh& prediction);
 
   const SensorCloud& last_sheet_cloud() const { return sheet_; }  // for display and debugging
   const std::vector<Eigen::Vector3f>& last_resampled_cloud() const { return resampled_; }
 
  private:
+  TrackResult run_cycle(const std::vector<drivers::DepthFrame>& frames, const SurfaceMesh& prediction);
+
   TrackerConfig config_;
   DepthFusion fusion_;
   SurfaceRegistration registration_;
