@@ -109,8 +109,9 @@ struct NoiseModel {
 drivers::DepthFrame render_frame(const Scene& scene, const CameraSetup& camera,
                                  const NoiseModel& noise);
 
-// The standard test cell: a dark sagging sheet, a light floor, and three cameras 1.2-1.8 m from
-// the sheet around it.
+// The standard test cell: a dark sagging sheet (1.17 x 0.975 m, 0.78-0.9 m high), a light
+// floor, and three cameras around and above it, 1.4-1.5 m from the sheet's centre (0.85-2.1 m
+// from its nearest and farthest points), each aimed at its own part of the sheet.
 std::vector<CameraSetup> three_cameras(int width, int height);
 Scene sheet_scene(const SheetShape& shape, std::shared_ptr<const SaggingSheet>* sheet_out = nullptr);
 
