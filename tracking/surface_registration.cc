@@ -129,7 +129,8 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction, const
     }
     result.matched_vertices = matched;
     s.factor.factorize(s.system);
-    const Eigen::VectorXd step = s.factor.info() == Eigen::Success ? s.factor.solve(rhs) : Eigen::VectorXd();
+    Eigen::VectorXd step;
+    if (s.factor.info() == Eigen::Success) step = s.factor.solve(rhs);
     if (s.factor.info() != Eigen::Success || !step.allFinite()) {
       result.status = RegistrationStatus::kSolverFailed;
       result.message = fmt::format("sparse solve failed in iteration {}", it + 1);
