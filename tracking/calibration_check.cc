@@ -43,7 +43,8 @@ std::vector<CameraPairAgreement> check_calibration(const SensorCloud& cloud, int
       pair.camera_a = a;
       pair.camera_b = b;
       const std::vector<Eigen::Vector3f>& pa = averaged[a];
-      const std::size_t step = std::max<std::size_t>(1, pa.size() / std::max(options.max_points, 1));
+      const std::size_t step =
+          std::max<std::size_t>(1, pa.size() / std::max(options.max_points, 1));
       std::vector<double> distance;
       std::vector<int> near;
       const pcl::PointCloud<pcl::PointXYZ>::Ptr neighbours(new pcl::PointCloud<pcl::PointXYZ>);

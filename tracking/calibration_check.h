@@ -22,8 +22,8 @@ struct CalibrationCheckOptions {
   double voxel_m = 0.01;         // per-camera averaging before the comparison
   double plane_radius_m = 0.02;  // neighbourhood of camera b that defines the plane at a point
   int min_plane_points = 6;
-  int min_overlap_points = 50;   // fewer common points: the pair is not judged
-  int max_points = 1500;         // points of camera a used per pair (evenly subsampled)
+  int min_overlap_points = 50;  // fewer common points: the pair is not judged
+  int max_points = 1500;        // points of camera a used per pair (evenly subsampled)
   // Flag above these. Agreeing D415s at 1.2-1.8 m (stride 2, 1 cm voxels) give a median of about
   // 1 mm and a 90th percentile of about 3 mm; one camera 1 cm or 1 degree off gives 3-15 mm
   // and 6.5-16 mm (tests/tracking/calibration_check_test.cc).
@@ -34,7 +34,7 @@ struct CalibrationCheckOptions {
 struct CameraPairAgreement {
   int camera_a = 0, camera_b = 0;  // indices into the cycle's camera list
   int overlap_points = 0;
-  bool judged = false;             // enough overlap to say anything
+  bool judged = false;                 // enough overlap to say anything
   double median_m = 0.0, p90_m = 0.0;  // absolute point-to-plane distance
   bool flagged = false;
 };

@@ -34,7 +34,8 @@ std::vector<Eigen::Vector3f> resample_cloud(const std::vector<Eigen::Vector3f>& 
     voxels = cloud;
   }
   pcl::PointCloud<pcl::PointXYZ>::Ptr kept = voxels;
-  if (options.remove_outliers && voxels->size() > static_cast<std::size_t>(options.outlier_neighbours)) {
+  if (options.remove_outliers &&
+      voxels->size() > static_cast<std::size_t>(options.outlier_neighbours)) {
     kept.reset(new pcl::PointCloud<pcl::PointXYZ>);
     pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
     sor.setInputCloud(voxels);

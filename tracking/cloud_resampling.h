@@ -19,7 +19,7 @@ struct ResampleOptions {
   bool approximate = false;
   bool remove_outliers = false;  // costs about as much as the voxel grid; off by default
   int outlier_neighbours = 12;
-  double outlier_stddev = 2.0;   // points whose mean neighbour distance is beyond mean + k sigma
+  double outlier_stddev = 2.0;  // points whose mean neighbour distance is beyond mean + k sigma
 };
 
 // Voxel centroids (and outlier removal when enabled). Points must be finite.

@@ -75,8 +75,10 @@ void write_ply(const std::string& path, const SurfaceMesh& mesh) {
       << "element vertex " << mesh.vertices_m.size() << "\nproperty float x\nproperty float y\n"
       << "property float z\nelement face " << mesh.triangles.size()
       << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const Vec3& v : mesh.vertices_m) out << fmt::format("{:.6f} {:.6f} {:.6f}\n", v.x(), v.y(), v.z());
-  for (const Eigen::Vector3i& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  for (const Vec3& v : mesh.vertices_m)
+    out << fmt::format("{:.6f} {:.6f} {:.6f}\n", v.x(), v.y(), v.z());
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
   out.flush();
   if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
 }

@@ -14,10 +14,10 @@ namespace tracking {
 
 struct ReconstructionOptions {
   int normal_neighbours = 12;
-  double search_radius_m = 0.03;    // longest triangle edge GP3 may make
-  double neighbour_factor = 2.5;    // GP3's mu: edge limit relative to the local point spacing
+  double search_radius_m = 0.03;  // longest triangle edge GP3 may make
+  double neighbour_factor = 2.5;  // GP3's mu: edge limit relative to the local point spacing
   int max_neighbours = 60;
-  int threads = 0;                  // normal estimation; 0 = OpenMP default
+  int threads = 0;  // normal estimation; 0 = OpenMP default
 };
 
 // Empty mesh for fewer than 3 points. Never throws on data; ~0.1 s for 20k points.

@@ -39,11 +39,16 @@ Eigen::Vector2d undistort(const drivers::Intrinsics& in, const Eigen::Vector2d& 
 
 const char* to_string(FrameStatus status) {
   switch (status) {
-    case FrameStatus::kOk: return "ok";
-    case FrameStatus::kEmpty: return "empty";
-    case FrameStatus::kSizeMismatch: return "size mismatch";
-    case FrameStatus::kBadIntrinsics: return "bad intrinsics";
-    case FrameStatus::kNonFinitePose: return "non-finite pose";
+    case FrameStatus::kOk:
+      return "ok";
+    case FrameStatus::kEmpty:
+      return "empty";
+    case FrameStatus::kSizeMismatch:
+      return "size mismatch";
+    case FrameStatus::kBadIntrinsics:
+      return "bad intrinsics";
+    case FrameStatus::kNonFinitePose:
+      return "non-finite pose";
   }
   return "unknown";
 }
@@ -139,8 +144,10 @@ FrameReport DepthFusion::add_frame(const drivers::DepthFrame& frame, int camera_
   const Eigen::Matrix3f rc = frame.depth_to_color.linear().cast<float>();
   const Eigen::Vector3f tc = frame.depth_to_color.translation().cast<float>();
   const bool color_distorted = has_distortion(ci);
-  const std::uint16_t min_mm = static_cast<std::uint16_t>(std::clamp(1e3 * options_.min_depth_m, 1.0, 65535.0));
-  const std::uint16_t max_mm = static_cast<std::uint16_t>(std::clamp(1e3 * options_.max_depth_m, 1.0, 65535.0));
+  const std::uint16_t min_mm =
+      static_cast<std::uint16_t>(std::clamp(1e3 * options_.min_depth_m, 1.0, 65535.0));
+  const std::uint16_t max_mm =
+      static_cast<std::uint16_t>(std::clamp(1e3 * options_.max_depth_m, 1.0, 65535.0));
 
   // Pixels are processed in parallel into fixed slots, then compacted in order, so the cloud is
   // the same whatever the thread count.

@@ -23,10 +23,10 @@ struct FusionOptions {
 
 enum class FrameStatus {
   kOk,
-  kEmpty,           // no depth image or no valid pixel (all zero)
-  kSizeMismatch,    // depth size != intrinsics width*height
-  kBadIntrinsics,   // non-positive size or focal length, non-finite values
-  kNonFinitePose,   // camera_to_cell or depth_to_color not finite (or not a rigid motion)
+  kEmpty,          // no depth image or no valid pixel (all zero)
+  kSizeMismatch,   // depth size != intrinsics width*height
+  kBadIntrinsics,  // non-positive size or focal length, non-finite values
+  kNonFinitePose,  // camera_to_cell or depth_to_color not finite (or not a rigid motion)
 };
 const char* to_string(FrameStatus status);
 

@@ -1,8 +1,8 @@
 // FLANN kd-tree (PCL's search back-end) behind PointIndex, queried in batches.
 #include "tracking/point_index.h"
 
-#include <flann/flann.hpp>
 #include <omp.h>
+#include <flann/flann.hpp>
 
 #include <limits>
 

@@ -11,10 +11,10 @@
 namespace tracking {
 
 struct SensorCloud {
-  std::vector<Eigen::Vector3f> points_m;      // cell frame (m)
-  std::vector<std::uint8_t> rgb;              // 3 per point; 0,0,0 when the colour is unknown
-  std::vector<std::uint8_t> has_color;        // 1 when the colour camera saw the point
-  std::vector<std::uint8_t> camera;           // index of the source camera in the cycle's frames
+  std::vector<Eigen::Vector3f> points_m;  // cell frame (m)
+  std::vector<std::uint8_t> rgb;          // 3 per point; 0,0,0 when the colour is unknown
+  std::vector<std::uint8_t> has_color;    // 1 when the colour camera saw the point
+  std::vector<std::uint8_t> camera;       // index of the source camera in the cycle's frames
 
   std::size_t size() const { return points_m.size(); }
   void clear() {

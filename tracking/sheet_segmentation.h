@@ -17,7 +17,7 @@ enum class UnknownColorPolicy {
 
 struct ColorRule {
   bool enabled = true;
-  double max_value = 0.35;      // HSV value (max of R,G,B)/255; prepreg reflects little light
+  double max_value = 0.35;  // HSV value (max of R,G,B)/255; prepreg reflects little light
   double min_value = 0.0;
   double min_saturation = 0.0;  // HSV saturation in [0, 1]
   double max_saturation = 1.0;

@@ -24,12 +24,18 @@ double ms_since(Clock::time_point& start) {
 
 const char* to_string(TrackStatus status) {
   switch (status) {
-    case TrackStatus::kOk: return "ok";
-    case TrackStatus::kNoFrames: return "no frames";
-    case TrackStatus::kSheetNotSeen: return "sheet not seen";
-    case TrackStatus::kBadPrediction: return "bad prediction";
-    case TrackStatus::kRegistrationFailed: return "registration failed";
-    case TrackStatus::kInternalError: return "internal error";
+    case TrackStatus::kOk:
+      return "ok";
+    case TrackStatus::kNoFrames:
+      return "no frames";
+    case TrackStatus::kSheetNotSeen:
+      return "sheet not seen";
+    case TrackStatus::kBadPrediction:
+      return "bad prediction";
+    case TrackStatus::kRegistrationFailed:
+      return "registration failed";
+    case TrackStatus::kInternalError:
+      return "internal error";
   }
   return "unknown";
 }
@@ -63,7 +69,8 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
   const auto finish = [&](TrackStatus status, std::string message) {
     r.status = status;
     r.message = std::move(message);
-    r.times.total_ms = std::chrono::duration<double, std::milli>(Clock::now() - cycle_start).count();
+    r.times.total_ms =
+        std::chrono::duration<double, std::milli>(Clock::now() - cycle_start).count();
     return r;
   };
   if (std::string why = validate_mesh(prediction); !why.empty()) {
@@ -81,8 +88,8 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
   r.fused_points = static_cast<int>(fused_.size());
   r.times.fusion_ms = ms_since(t);
   if (r.cameras_used.empty()) {
-    return finish(TrackStatus::kNoFrames, frames.empty() ? "no frame arrived"
-                                                         : "every frame was rejected");
+    return finish(TrackStatus::kNoFrames,
+                  frames.empty() ? "no frame arrived" : "every frame was rejected");
   }
 
   sheet_ = segment_sheet(fused_, config_.segmentation, &r.segmentation);
@@ -117,8 +124,8 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
   // Only cycles that tracked count, so the first good cycle always checks.
   const int every = std::max(config_.calibration.every_n_cycles, 1);
   if (config_.calibration.enabled && cycle_++ % every == 0) {
-    r.calibration = check_calibration(sheet_, static_cast<int>(r.cameras_used.size()),
-                                      config_.calibration);
+    r.calibration =
+        check_calibration(sheet_, static_cast<int>(r.cameras_used.size()), config_.calibration);
     r.calibration_checked = true;
   }
   r.times.calibration_ms = ms_since(t);

@@ -52,11 +52,11 @@ struct StageTimes {  // wall-clock milliseconds per stage of the cycle
 struct TrackResult {
   TrackStatus status = TrackStatus::kOk;
   std::string message;
-  std::vector<FrameReport> frames;       // one per input frame, in input order
+  std::vector<FrameReport> frames;        // one per input frame, in input order
   std::vector<std::string> cameras_used;  // names of the frames that contributed points
   // Observed surface: the prediction's vertices moved onto the cloud (prediction when not ok).
   std::vector<Vec3> vertices_m;
-  std::vector<std::uint8_t> vertex_observed;      // a cloud point within observed_distance
+  std::vector<std::uint8_t> vertex_observed;       // a cloud point within observed_distance
   std::vector<double> vertex_distance_to_cloud_m;  // NaN when none near
   Coverage coverage;
   PredictionError prediction_error;
@@ -80,7 +80,8 @@ class SheetTracker {
   const std::vector<Eigen::Vector3f>& last_resampled_cloud() const { return resampled_; }
 
  private:
-  TrackResult run_cycle(const std::vector<drivers::DepthFrame>& frames, const SurfaceMesh& prediction);
+  TrackResult run_cycle(const std::vector<drivers::DepthFrame>& frames,
+                        const SurfaceMesh& prediction);
 
   TrackerConfig config_;
   DepthFusion fusion_;

@@ -49,9 +49,9 @@ std::vector<double> vertex_areas(const std::vector<Vec3>& vertices_m,
                                  const std::vector<Eigen::Vector3i>& triangles) {
   std::vector<double> area(vertices_m.size(), 0.0);
   for (const Eigen::Vector3i& t : triangles) {
-    const double a = 0.5 * (vertices_m[t[1]] - vertices_m[t[0]])
-                               .cross(vertices_m[t[2]] - vertices_m[t[0]])
-                               .norm();
+    const double a =
+        0.5 *
+        (vertices_m[t[1]] - vertices_m[t[0]]).cross(vertices_m[t[2]] - vertices_m[t[0]]).norm();
     for (int k = 0; k < 3; ++k) area[t[k]] += a / 3.0;
   }
   return area;

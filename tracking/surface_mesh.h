@@ -13,9 +13,9 @@
 namespace tracking {
 
 struct SurfaceMesh {
-  std::vector<Vec3> vertices_m;               // cell frame (m)
-  std::vector<Eigen::Vector3i> triangles;     // vertex indices, counter-clockwise seen from +n
-  std::vector<Eigen::Vector2d> rest_uv_m;     // optional material coordinates (m); may be empty
+  std::vector<Vec3> vertices_m;            // cell frame (m)
+  std::vector<Eigen::Vector3i> triangles;  // vertex indices, counter-clockwise seen from +n
+  std::vector<Eigen::Vector2d> rest_uv_m;  // optional material coordinates (m); may be empty
 };
 
 // Empty when the mesh is usable; otherwise what is wrong (no vertices, index out of range,

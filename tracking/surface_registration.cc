@@ -5,17 +5,21 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/CholmodSupport>
 #include <fmt/format.h>
+#include <Eigen/CholmodSupport>
 
 namespace tracking {
 
 const char* to_string(RegistrationStatus status) {
   switch (status) {
-    case RegistrationStatus::kOk: return "ok";
-    case RegistrationStatus::kBadMesh: return "bad mesh";
-    case RegistrationStatus::kNoCloud: return "no cloud";
-    case RegistrationStatus::kSolverFailed: return "solver failed";
+    case RegistrationStatus::kOk:
+      return "ok";
+    case RegistrationStatus::kBadMesh:
+      return "bad mesh";
+    case RegistrationStatus::kNoCloud:
+      return "no cloud";
+    case RegistrationStatus::kSolverFailed:
+      return "solver failed";
   }
   return "unknown";
 }
@@ -67,7 +71,8 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
   ++symbolic_analyses_;
 }
 
-RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction, const PointIndex& cloud) {
+RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
+                                            const PointIndex& cloud) {
   RegistrationResult result;
   result.vertices_m = prediction.vertices_m;
   const int n = static_cast<int>(prediction.vertices_m.size());

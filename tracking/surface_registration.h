@@ -30,13 +30,13 @@ namespace tracking {
 
 struct RegistrationOptions {
   int max_iterations = 4;  // gate 6, 3, 1.5, 1.5 cm; the benchmark tracks as well with 3 as with 6
-  double initial_gate_m = 0.06;   // matches farther than this are ignored in the first iteration
-  double final_gate_m = 0.015;    // the gate halves each iteration down to this
+  double initial_gate_m = 0.06;  // matches farther than this are ignored in the first iteration
+  double final_gate_m = 0.015;   // the gate halves each iteration down to this
   // Length (m) over which the displacement is smoothed; the edge weight lambda is
   // (smoothing_length / mean edge length)^2 so the result does not depend on mesh resolution.
   double smoothing_length_m = 0.04;
-  double prior_weight = 1e-3;       // eps
-  double converged_step_m = 2e-4;   // stop when no vertex moved more than this
+  double prior_weight = 1e-3;          // eps
+  double converged_step_m = 2e-4;      // stop when no vertex moved more than this
   double observed_distance_m = 0.012;  // a vertex with a cloud point this close was observed
 };
 
@@ -46,8 +46,8 @@ const char* to_string(RegistrationStatus status);
 struct RegistrationResult {
   RegistrationStatus status = RegistrationStatus::kOk;
   std::string message;
-  std::vector<Vec3> vertices_m;            // tracked surface (prediction when not ok)
-  std::vector<std::uint8_t> observed;      // 1 when a cloud point lies within observed_distance
+  std::vector<Vec3> vertices_m;             // tracked surface (prediction when not ok)
+  std::vector<std::uint8_t> observed;       // 1 when a cloud point lies within observed_distance
   std::vector<double> distance_to_cloud_m;  // nearest cloud point (m); NaN when beyond the gate
   int iterations = 0;
   int matched_vertices = 0;  // in the last iteration

@@ -76,7 +76,8 @@ class Fields {
   void no_others() const {
     for (auto it = object_.begin(); it != object_.end(); ++it) {
       if (!used_.count(it.key())) {
-        throw std::runtime_error(fmt::format("{}: unknown field '{}'", source_, name(it.key().c_str())));
+        throw std::runtime_error(
+            fmt::format("{}: unknown field '{}'", source_, name(it.key().c_str())));
       }
     }
   }
@@ -104,7 +105,8 @@ void read_color(Fields f, ColorRule& c) {
       return h.is_number() && h.get<double>() >= 0.0 && h.get<double>() <= 360.0;
     };
     if (!hue->is_array() || hue->size() != 2 || !in_range((*hue)[0]) || !in_range((*hue)[1])) {
-      f.fail(f.name("hue_deg"), "[min, max] in degrees within [0, 360] (min > max wraps through 0)", hue);
+      f.fail(f.name("hue_deg"), "[min, max] in degrees within [0, 360] (min > max wraps through 0)",
+             hue);
     }
     c.use_hue = true;
     c.min_hue_deg = (*hue)[0].get<double>();

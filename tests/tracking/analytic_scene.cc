@@ -39,8 +39,13 @@ Vec3 pixel_ray(const drivers::Intrinsics& in, double u, double v) {
 }  // namespace
 
 PlaneSurface::PlaneSurface(Vec3 centre, Vec3 u, Vec3 v, double half_u, double half_v, Rgb rgb)
-    : AnalyticSurface(rgb), centre_(centre), u_(u.normalized()), v_(v.normalized()),
-      n_(u.cross(v).normalized()), half_u_(half_u), half_v_(half_v) {}
+    : AnalyticSurface(rgb),
+      centre_(centre),
+      u_(u.normalized()),
+      v_(v.normalized()),
+      n_(u.cross(v).normalized()),
+      half_u_(half_u),
+      half_v_(half_v) {}
 
 std::optional<double> PlaneSurface::intersect(const Vec3& origin, const Vec3& direction) const {
   const double denom = n_.dot(direction);
@@ -56,7 +61,10 @@ std::optional<double> PlaneSurface::intersect(const Vec3& origin, const Vec3& di
 double PlaneSurface::distance(const Vec3& point) const { return std::abs(n_.dot(point - centre_)); }
 
 CylinderSurface::CylinderSurface(Vec3 centre, Vec3 axis, double radius, double half_length, Rgb rgb)
-    : AnalyticSurface(rgb), centre_(centre), axis_(axis.normalized()), radius_(radius),
+    : AnalyticSurface(rgb),
+      centre_(centre),
+      axis_(axis.normalized()),
+      radius_(radius),
       half_length_(half_length) {}
 
 std::optional<double> CylinderSurface::intersect(const Vec3& origin, const Vec3& direction) const {
@@ -192,8 +200,8 @@ drivers::DepthFrame render_frame(const Scene& scene, const CameraSetup& camera,
   f.rgb.assign(static_cast<std::size_t>(ci.width) * ci.height * 3, 0);
   for (int v = 0; v < ci.height; ++v) {
     for (int u = 0; u < ci.width; ++u) {
-      const auto hit = scene.cast(color_to_cell.translation(),
-                                  color_to_cell.linear() * pixel_ray(ci, u, v));
+      const auto hit =
+          scene.cast(color_to_cell.translation(), color_to_cell.linear() * pixel_ray(ci, u, v));
       const Rgb& rgb = hit ? scene.surfaces[hit->first]->rgb() : scene.background;
       std::copy(rgb.begin(), rgb.end(), &f.rgb[3 * (static_cast<std::size_t>(v) * ci.width + u)]);
     }

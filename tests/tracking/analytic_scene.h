@@ -113,6 +113,7 @@ drivers::DepthFrame render_frame(const Scene& scene, const CameraSetup& camera,
 // floor, and three cameras around and above it, 1.4-1.5 m from the sheet's centre (0.85-2.1 m
 // from its nearest and farthest points), each aimed at its own part of the sheet.
 std::vector<CameraSetup> three_cameras(int width, int height);
-Scene sheet_scene(const SheetShape& shape, std::shared_ptr<const SaggingSheet>* sheet_out = nullptr);
+Scene sheet_scene(const SheetShape& shape,
+                  std::shared_ptr<const SaggingSheet>* sheet_out = nullptr);
 
 }  // namespace tracking::testing

@@ -10,15 +10,16 @@
 namespace tracking {
 namespace {
 
-std::vector<drivers::DepthFrame> frames_with_cam_left_off(const Eigen::Isometry3d& error_in_camera) {
+std::vector<drivers::DepthFrame> frames_with_cam_left_off(
+    const Eigen::Isometry3d& error_in_camera) {
   testing::SheetShape shape;
   shape.slope_x = 0.04;
   const testing::Scene scene = testing::sheet_scene(shape);
   const auto cameras = testing::three_cameras(848, 480);
   std::vector<drivers::DepthFrame> frames;
   for (std::size_t c = 0; c < cameras.size(); ++c) {
-    frames.push_back(testing::render_frame(scene, cameras[c],
-                                           {0.0015, static_cast<std::uint32_t>(21 + c)}));
+    frames.push_back(
+        testing::render_frame(scene, cameras[c], {0.0015, static_cast<std::uint32_t>(21 + c)}));
   }
   // The camera really is where it was rendered from; its configured extrinsic is wrong.
   frames[2].camera_to_cell = frames[2].camera_to_cell * error_in_camera;
@@ -46,8 +47,10 @@ std::vector<CameraPairAgreement> check(const std::vector<drivers::DepthFrame>& f
 }  // namespace
 
 TEST_CASE("calibration check passes a correct camera set", "[tracker][calibration]") {
-  for (const CameraPairAgreement& p : check(frames_with_cam_left_off(Eigen::Isometry3d::Identity()))) {
-    INFO("pair " << p.camera_a << "-" << p.camera_b << " median " << p.median_m << " p90 " << p.p90_m);
+  for (const CameraPairAgreement& p :
+       check(frames_with_cam_left_off(Eigen::Isometry3d::Identity()))) {
+    INFO("pair " << p.camera_a << "-" << p.camera_b << " median " << p.median_m << " p90 "
+                 << p.p90_m);
     CHECK_FALSE(p.flagged);
     CHECK(p.median_m < 0.002);
   }
@@ -64,7 +67,8 @@ TEST_CASE("calibration check flags a camera 1 cm or 1 degree off", "[tracker][ca
     error.linear() = Eigen::AngleAxisd(M_PI / 180.0, Vec3::UnitZ()).toRotationMatrix();
   }
   for (const CameraPairAgreement& p : check(frames_with_cam_left_off(error))) {
-    INFO("pair " << p.camera_a << "-" << p.camera_b << " median " << p.median_m << " p90 " << p.p90_m);
+    INFO("pair " << p.camera_a << "-" << p.camera_b << " median " << p.median_m << " p90 "
+                 << p.p90_m);
     // cam_left is camera 2: both its pairs disagree, the other pair still agrees.
     CHECK(p.flagged == (p.camera_b == 2));
   }

@@ -11,7 +11,8 @@
 
 namespace tracking {
 
-TEST_CASE("reconstructed display mesh lies on the sheet and covers it", "[tracker][reconstruction]") {
+TEST_CASE("reconstructed display mesh lies on the sheet and covers it",
+          "[tracker][reconstruction]") {
   testing::SheetShape shape;
   const testing::SaggingSheet sheet(shape, {0, 0, 0});
   std::mt19937 rng(5);
@@ -50,7 +51,8 @@ TEST_CASE("PLY output of a mesh", "[tracker][reconstruction]") {
   CHECK(text.find("element face 4\n") != std::string::npos);
   CHECK(text.find("-0.500000 -0.250000 0.000000\n") != std::string::npos);
   CHECK(text.find("3 0 1 4\n") != std::string::npos);
-  CHECK_THROWS_WITH(write_ply((dir / "missing" / "x.ply").string(), mesh), Catch::Contains("missing/x.ply"));
+  CHECK_THROWS_WITH(write_ply((dir / "missing" / "x.ply").string(), mesh),
+                    Catch::Contains("missing/x.ply"));
 }
 
 }  // namespace tracking

@@ -79,7 +79,8 @@ TEST_CASE("fusion puts noise-free pixels on the analytic surfaces, distorted len
 
 TEST_CASE("pixel stride decimates the frame", "[tracker][fusion]") {
   const Scene scene = plane_and_cylinder();
-  const CameraSetup cam = testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 424, 240);
+  const CameraSetup cam =
+      testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 424, 240);
   const drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{});
   DepthFusion full, half;
   FusionOptions o;
@@ -94,7 +95,8 @@ TEST_CASE("pixel stride decimates the frame", "[tracker][fusion]") {
 
 TEST_CASE("corrupt frames are rejected with a clear status", "[tracker][fusion]") {
   const Scene scene = plane_and_cylinder();
-  const CameraSetup cam = testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 160, 120);
+  const CameraSetup cam =
+      testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 160, 120);
   const drivers::DepthFrame good = testing::render_frame(scene, cam, NoiseModel{});
   DepthFusion fusion;
   SensorCloud cloud;
@@ -140,7 +142,8 @@ TEST_CASE("corrupt frames are rejected with a clear status", "[tracker][fusion]"
 
 TEST_CASE("colour of the wrong size is ignored but depth is kept", "[tracker][fusion]") {
   const Scene scene = plane_and_cylinder();
-  const CameraSetup cam = testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 160, 120);
+  const CameraSetup cam =
+      testing::look_at_camera("cam", Vec3(0, -0.8, 1.5), Vec3(0, 0, 0.6), 160, 120);
   drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{});
   frame.rgb.resize(frame.rgb.size() / 2);
   DepthFusion fusion;
@@ -159,7 +162,8 @@ TEST_CASE("segmentation keeps the dark sheet inside the box", "[tracker][segment
   // A bright gripper-like cylinder at the sheet's edge, inside the workspace box.
   scene.surfaces.push_back(std::make_shared<const testing::CylinderSurface>(
       Vec3(0.55, 0, 0.95), Vec3::UnitY(), 0.04, 0.2, Rgb{210, 70, 40}));
-  const CameraSetup cam = testing::look_at_camera("cam", Vec3(0, -1.1, 1.9), Vec3(0, 0, 0.8), 424, 240);
+  const CameraSetup cam =
+      testing::look_at_camera("cam", Vec3(0, -1.1, 1.9), Vec3(0, 0, 0.8), 424, 240);
   const drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{0.0, 3});
   DepthFusion fusion;
   SensorCloud cloud;
@@ -172,13 +176,15 @@ TEST_CASE("segmentation keeps the dark sheet inside the box", "[tracker][segment
   const SensorCloud kept = segment_sheet(cloud, options, &counts);
   CHECK(counts.outside_box > 1000);  // the floor
   CHECK(counts.wrong_color > 100);   // the gripper
-  const auto on_sheet = [&](const Eigen::Vector3f& p) { return sheet->distance(p.cast<double>()) < 2e-3; };
+  const auto on_sheet = [&](const Eigen::Vector3f& p) {
+    return sheet->distance(p.cast<double>()) < 2e-3;
+  };
   int sheet_points = 0;
   for (const Eigen::Vector3f& p : cloud.points_m) sheet_points += on_sheet(p);
   int kept_on_sheet = 0;
   for (const Eigen::Vector3f& p : kept.points_m) kept_on_sheet += on_sheet(p);
-  CHECK(kept_on_sheet == Approx(kept.size()).epsilon(0.005));      // nearly nothing else kept
-  CHECK(kept_on_sheet == Approx(sheet_points).epsilon(0.02));      // nearly all the sheet kept
+  CHECK(kept_on_sheet == Approx(kept.size()).epsilon(0.005));  // nearly nothing else kept
+  CHECK(kept_on_sheet == Approx(sheet_points).epsilon(0.02));  // nearly all the sheet kept
 
   SECTION("points without colour follow the policy") {
     SensorCloud uncoloured = cloud;
@@ -191,7 +197,8 @@ TEST_CASE("segmentation keeps the dark sheet inside the box", "[tracker][segment
   }
 }
 
-TEST_CASE("colour rule: value ceiling, saturation and a hue range through red", "[tracker][segmentation]") {
+TEST_CASE("colour rule: value ceiling, saturation and a hue range through red",
+          "[tracker][segmentation]") {
   ColorRule rule;
   CHECK(color_passes(rule, 30, 30, 30));
   CHECK_FALSE(color_passes(rule, 200, 200, 200));
@@ -199,9 +206,9 @@ TEST_CASE("colour rule: value ceiling, saturation and a hue range through red", 
   rule.use_hue = true;
   rule.min_hue_deg = 340;  // wraps through 0
   rule.max_hue_deg = 20;
-  CHECK(color_passes(rule, 200, 40, 40));    // red, hue 0
-  CHECK(color_passes(rule, 200, 40, 80));    // hue 345
-  CHECK_FALSE(color_passes(rule, 40, 200, 40));  // green
+  CHECK(color_passes(rule, 200, 40, 40));          // red, hue 0
+  CHECK(color_passes(rule, 200, 40, 80));          // hue 345
+  CHECK_FALSE(color_passes(rule, 40, 200, 40));    // green
   CHECK_FALSE(color_passes(rule, 100, 100, 100));  // grey has no hue
   rule.use_hue = false;
   rule.min_saturation = 0.5;

@@ -41,7 +41,8 @@ const World& world() {
     const testing::Scene scene = testing::sheet_scene(true_shape(), &w.sheet);
     const auto cameras = testing::three_cameras(848, 480);
     for (std::size_t c = 0; c < cameras.size(); ++c) {
-      w.frames.push_back(testing::render_frame(scene, cameras[c], testing::NoiseModel{0.0015, static_cast<std::uint32_t>(11 + c)}));
+      w.frames.push_back(testing::render_frame(
+          scene, cameras[c], testing::NoiseModel{0.0015, static_cast<std::uint32_t>(11 + c)}));
     }
     w.prediction = testing::SaggingSheet(predicted_shape(), {0, 0, 0}).mesh(40, 34);
     return w;
@@ -99,7 +100,8 @@ TEST_CASE("tracking recovers the sagging sheet from a perturbed prediction", "[t
   CHECK(r.times.total_ms > 0.0);
 }
 
-TEST_CASE("prediction error: Algorithm 1 figures and tracked minus predicted per vertex", "[tracker]") {
+TEST_CASE("prediction error: Algorithm 1 figures and tracked minus predicted per vertex",
+          "[tracker]") {
   const World& w = world();
   SheetTracker tracker(test_config());
   const TrackResult off = tracker.track(w.frames, w.prediction);

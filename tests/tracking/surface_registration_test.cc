@@ -56,7 +56,8 @@ TEST_CASE("registration moves a shifted prediction onto the cloud and reuses its
   CHECK(worst < 0.012);
   for (std::size_t i = 0; i < r.observed.size(); ++i) {
     const Vec3& p = prediction.vertices_m[i];
-    if (std::abs(p.x()) > 0.5 * truth.width_m - 0.03 || std::abs(p.y()) > 0.5 * truth.height_m - 0.03) {
+    if (std::abs(p.x()) > 0.5 * truth.width_m - 0.03 ||
+        std::abs(p.y()) > 0.5 * truth.height_m - 0.03) {
       continue;
     }
     CHECK(r.observed[i] == 1);
@@ -92,7 +93,8 @@ TEST_CASE("parts nobody saw follow the prediction smoothly", "[tracker][registra
   for (std::size_t i = 0; i < r.vertices_m.size(); ++i) {
     const double x = prediction.vertices_m[i].x(), y = prediction.vertices_m[i].y();
     // Border vertices slide along the slope past the edge (see the first test): not judged.
-    const bool border = x < -0.5 * truth.width_m + 0.03 || std::abs(y) > 0.5 * truth.height_m - 0.03;
+    const bool border =
+        x < -0.5 * truth.width_m + 0.03 || std::abs(y) > 0.5 * truth.height_m - 0.03;
     if (x < -0.05 && !border) {
       CHECK(r.observed[i] == 1);
       CHECK(sheet.distance(r.vertices_m[i]) < 0.004);
@@ -101,7 +103,8 @@ TEST_CASE("parts nobody saw follow the prediction smoothly", "[tracker][registra
   }
 }
 
-TEST_CASE("registration refuses a broken mesh or an empty cloud with a status", "[tracker][registration]") {
+TEST_CASE("registration refuses a broken mesh or an empty cloud with a status",
+          "[tracker][registration]") {
   SurfaceRegistration registration;
   PointIndex empty;
   empty.build({});

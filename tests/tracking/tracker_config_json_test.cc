@@ -19,7 +19,8 @@ std::string error_of(const std::string& text) {
 
 }  // namespace
 
-TEST_CASE("tracker config: empty object gives the defaults, fields override them", "[tracker][config]") {
+TEST_CASE("tracker config: empty object gives the defaults, fields override them",
+          "[tracker][config]") {
   const TrackerConfig d = parse_tracker_config("{}", "x");
   CHECK(d.fusion.pixel_stride == TrackerConfig{}.fusion.pixel_stride);
   CHECK(d.resample.voxel_m == TrackerConfig{}.resample.voxel_m);
@@ -32,7 +33,8 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
     "coverage": {"radius_m": 0.015, "min_points": 4},
     "calibration": {"every_n_cycles": 30, "max_median_m": 0.004},
     "min_sheet_points": 500
-  })", "x");
+  })",
+                                               "x");
   CHECK(c.fusion.pixel_stride == 1);
   CHECK(c.fusion.max_depth_m == 3.0);
   CHECK(c.segmentation.box_min_m == Vec3(-1, -1, 0.4));

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "tests/tracking/analytic_scene.h"
 #include "tracking/cloud_surface.h"
@@ -49,7 +49,8 @@ struct Resolution {
 
 Resolution parse_resolution(const std::string& text) {
   Resolution r{0, 0};
-  if (std::sscanf(text.c_str(), "%dx%d", &r.width, &r.height) != 2 || r.width <= 0 || r.height <= 0) {
+  if (std::sscanf(text.c_str(), "%dx%d", &r.width, &r.height) != 2 || r.width <= 0 ||
+      r.height <= 0) {
     throw CLI::ValidationError("--resolutions", "expected WIDTHxHEIGHT, got '" + text + "'");
   }
   return r;
@@ -77,7 +78,8 @@ int main(int argc, char** argv) {
                "pcl::ApproximateVoxelGrid instead of pcl::VoxelGrid");
   app.add_option("--voxel-m", voxel_m, "voxel size (m)")->check(CLI::PositiveNumber);
   app.add_option("--calibration-every", calibration_every,
-                 "run the calibration check every N cycles (0 = never)")->check(CLI::NonNegativeNumber);
+                 "run the calibration check every N cycles (0 = never)")
+      ->check(CLI::NonNegativeNumber);
   std::string ply_dir;
   app.add_option("--ply", ply_dir,
                  "write the last cycle's tracked surface and the PCL reconstruction of its cloud "
@@ -93,10 +95,11 @@ int main(int argc, char** argv) {
   const tracking::testing::Scene scene = tracking::testing::sheet_scene(truth, &sheet);
   const tracking::SurfaceMesh prediction =
       tracking::testing::SaggingSheet(predicted, {0, 0, 0}).mesh(cols, rows);
-  fmt::print("mesh: {} vertices, {} triangles; {} cycles per resolution; pixel stride {}, voxel "
-             "{} m, calibration check every {} cycles; load average {}\n",
-             prediction.vertices_m.size(), prediction.triangles.size(), cycles, stride, voxel_m,
-             calibration_every, load_average());
+  fmt::print(
+      "mesh: {} vertices, {} triangles; {} cycles per resolution; pixel stride {}, voxel "
+      "{} m, calibration check every {} cycles; load average {}\n",
+      prediction.vertices_m.size(), prediction.triangles.size(), cycles, stride, voxel_m,
+      calibration_every, load_average());
 
   for (const std::string& text : resolutions) {
     const Resolution res = parse_resolution(text);
@@ -159,9 +162,10 @@ int main(int argc, char** argv) {
     line("coverage", cov);
     line("prediction_error", err);
     line("calibration", cal);
-    fmt::print("figure: {} tracked-surface error vs truth: mean {:.2f} mm, max {:.2f} mm (worst cycle)\n",
-               text, 1e3 * *std::max_element(mean_err.begin(), mean_err.end()),
-               1e3 * *std::max_element(max_err.begin(), max_err.end()));
+    fmt::print(
+        "figure: {} tracked-surface error vs truth: mean {:.2f} mm, max {:.2f} mm (worst cycle)\n",
+        text, 1e3 * *std::max_element(mean_err.begin(), mean_err.end()),
+        1e3 * *std::max_element(max_err.begin(), max_err.end()));
     fmt::print("load average after {}: {}\n", text, load_average());
     if (!ply_dir.empty()) {
       const tracking::TrackResult r = tracker.track(sets[0], prediction);
@@ -170,7 +174,9 @@ int main(int argc, char** argv) {
       const auto start = std::chrono::steady_clock::now();
       const tracking::SurfaceMesh display =
           tracking::reconstruct_surface(tracker.last_resampled_cloud(), {});
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
       try {
         tracking::write_ply(fmt::format("{}/tracked_{}.ply", ply_dir, text), tracked);
         tracking::write_ply(fmt::format("{}/cloud_surface_{}.ply", ply_dir, text), display);
