@@ -47,6 +47,8 @@ TEST_CASE("fusion puts noise-free pixels on the analytic surfaces, distorted len
     cam.depth.k2 = 0.02;
     cam.depth.p1 = 0.001;
     cam.depth.p2 = -0.0005;
+    cam.color.k1 = 0.06;  // the colour lookup goes through the forward model
+    cam.color.p1 = -0.001;
   }
   const drivers::DepthFrame frame = testing::render_frame(scene, cam, NoiseModel{0.0, 1});
   DepthFusion fusion;
