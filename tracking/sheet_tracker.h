@@ -1,0 +1,94 @@
+#pragma once
+// The real-time sheet tracker: one call per cycle turns the depth frames that arrived (any
+// subset of the cameras; a dead camera is simply missing) and the twin's predicted mesh into
+// the observed surface, its coverage, the prediction error and a calibration check.
+//
+//   frames -> fusion (cell-frame points, colour, camera) -> segmentation (box, colour)
+//          -> voxel resampling -> registration of the prediction -> coverage, prediction error
+//          -> calibration check between cameras
+//
+// The cyclic path never throws: corrupt frames are rejected per frame, and the result's status
+// says whether the cycle produced a tracked surface. Not thread-safe: one tracker per thread (it
+// keeps buffers and the registration's factorisation between cycles).
+
+#include <string>
+#include <vector>
+
+#include "drivers/depth_camera.h"
+#include "tracking/calibration_check.h"
+#include "tracking/cloud_resampling.h"
+#include "tracking/depth_fusion.h"
+#include "tracking/sheet_segmentation.h"
+#include "tracking/surface_metrics.h"
+#include "tracking/surface_registration.h"
+
+namespace tracking {
+
+struct TrackerConfig {
+  FusionOptions fusion;
+  SegmentationOptions segmentation;
+  ResampleOptions resample;
+  RegistrationOptions registration;
+  CoverageOptions coverage;
+  CalibrationCheckOptions calibration;
+  int min_sheet_points = 200;  // fewer segmented points: the sheet was not seen this cycle
+};
+
+enum class TrackStatus {
+  kOk,
+  kNoFrames,       // no frame arrived, or every frame was rejected
+  kSheetNotSeen,   // frames were fine but too few points passed segmentation
+  kBadPrediction,  // the predicted mesh is unusable (see message)
+  kRegistrationFailed,
+  kInternalError,  // a library threw (out of memory, ...); the message says what
+};
+const char* to_string(TrackStatus status);
+
+struct StageTimes {  // wall-clock milliseconds per stage of the cycle
+  double fusion_ms = 0, segmentation_ms = 0, resample_ms = 0, registration_ms = 0;
+  double coverage_ms = 0, prediction_error_ms = 0, calibration_ms = 0, total_ms = 0;
+};
+
+struct TrackResult {
+  TrackStatus status = TrackStatus::kOk;
+  std::string message;
+  std::vector<FrameReport> frames;        // one per input frame, in input order
+  std::vector<std::string> cameras_used;  // names of the frames that contributed points
+  // Observed surface: the prediction's vertices moved onto the cloud (prediction when not ok).
+  std::vector<Vec3> vertices_m;
+  std::vector<std::uint8_t> vertex_observed;       // a cloud point within observed_distance
+  std::vector<double> vertex_distance_to_cloud_m;  // NaN when none near
+  Coverage coverage;
+  PredictionError prediction_error;
+  bool calibration_checked = false;              // this cycle ran the calibration check
+  std::vector<CameraPairAgreement> calibration;  // indices into cameras_used
+  SegmentationCounts segmentation;
+  int fused_points = 0, sheet_points = 0, resampled_points = 0;
+  int registration_iterations = 0;
+  StageTimes times;
+};
+
+class SheetTracker {
+ public:
+  explicit SheetTracker(TrackerConfig config = {});
+  const TrackerConfig& config() const { return config_; }
+
+  // One cycle. Never throws: whatever goes wrong ends in the result's status.
+  TrackResult track(const std::vector<drivers::DepthFrame>& frames, const SurfaceMesh& prediction);
+
+  const SensorCloud& last_sheet_cloud() const { return sheet_; }  // for display and debugging
+  const std::vector<Eigen::Vector3f>& last_resampled_cloud() const { return resampled_; }
+
+ private:
+  TrackResult run_cycle(const std::vector<drivers::DepthFrame>& frames,
+                        const SurfaceMesh& prediction);
+
+  TrackerConfig config_;
+  DepthFusion fusion_;
+  SurfaceRegistration registration_;
+  SensorCloud fused_, sheet_;  // reused across cycles
+  std::vector<Eigen::Vector3f> resampled_;
+  long cycle_ = 0;
+};
+
+}  // namespace tracking

@@ -1,0 +1,44 @@
+#pragma once
+// Stage 5 of the tracker: what the cycle tells the cell. Coverage: which part of the sheet the
+// cameras saw. Prediction error: how far the twin's prediction is from what was seen, in the
+// paper's Algorithm 1 form (each observed point against its nearest predicted vertex) and per
+// vertex (tracked minus predicted).
+
+#include <cstdint>
+#include <vector>
+
+#include "tracking/point_index.h"
+#include "tracking/surface_mesh.h"
+
+namespace tracking {
+
+struct CoverageOptions {
+  double radius_m = 0.012;  // a vertex is seen when at least min_points cloud points lie this close
+  int min_points = 3;
+};
+
+struct Coverage {
+  double fraction = 0.0;              // seen area / sheet area (tracked surface)
+  std::vector<std::uint8_t> covered;  // per vertex
+};
+
+Coverage compute_coverage(const std::vector<Vec3>& vertices_m,
+                          const std::vector<Eigen::Vector3i>& triangles, const PointIndex& cloud,
+                          const CoverageOptions& options);
+
+struct PredictionError {
+  // Algorithm 1: for each observed point, the distance to the nearest predicted vertex (m).
+  double mean_m = 0.0;
+  double max_m = 0.0;
+  double score_m = 0.0;  // mean + 0.5 max, the paper's single figure
+  int points = 0;
+  // Per vertex: tracked minus predicted (m) and its length.
+  std::vector<Vec3> per_vertex_m;
+  std::vector<double> per_vertex_norm_m;
+};
+
+PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& observed_m,
+                                         const std::vector<Vec3>& predicted_m,
+                                         const std::vector<Vec3>& tracked_m);
+
+}  // namespace tracking
