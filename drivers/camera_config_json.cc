@@ -133,7 +133,10 @@ CameraConfig parse_camera(const json& value, const std::string& where) {
   if (f.has("serial")) c.serial = f["serial"].string();
   if (f.has("depth_mode")) c.depth_mode = parse_mode(f["depth_mode"]);
   if (f.has("color_mode")) c.color_mode = parse_mode(f["color_mode"]);
-  c.depth_intrinsics = parse_intrinsics(f["depth_intrinsics"], c.depth_mode, "depth_mode");
+  // Optional: a back-end that cannot read the calibration from the device (V4L2) refuses at
+  // configure() without it; the simulated D415 and OpenNI2 supply their own.
+  if (f.has("depth_intrinsics"))
+    c.depth_intrinsics = parse_intrinsics(f["depth_intrinsics"], c.depth_mode, "depth_mode");
   if (f.has("color_intrinsics"))
     c.color_intrinsics = parse_intrinsics(f["color_intrinsics"], c.color_mode, "color_mode");
   if (f.has("depth_to_color")) c.depth_to_color = parse_pose(f["depth_to_color"]);

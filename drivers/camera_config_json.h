@@ -11,7 +11,9 @@
 //    "depth_mode": {"width": 848, "height": 480, "fps": 30},  (optional, default 848x480@30)
 //    "color_mode": {...},                                  (optional, default 848x480@30)
 //    "depth_intrinsics": {"width": 848, "height": 480, "fx": 600, "fy": 600, "cx": 424,
-//                         "cy": 240, "distortion": [k1, k2, p1, p2, k3]},  (distortion optional)
+//                         "cy": 240, "distortion": [k1, k2, p1, p2, k3]},  (distortion optional;
+//                         the whole entry is optional for back-ends that know their calibration
+//                         (simulated, OpenNI2); v4l2 refuses to configure without it)
 //    "color_intrinsics": {...},                            (optional: no colour calibration)
 //    "depth_to_color": {"translation_m": [x, y, z], "quaternion_wxyz": [w, x, y, z]},
 //    "camera_to_cell": {"translation_m": [...], "rpy_deg": [roll, pitch, yaw]},

@@ -55,6 +55,9 @@ DriverResult V4l2D415Camera::configure(const CameraConfig& config) {
     return DriverResult::failure(config.name + ": serial " + config.serial +
                                  " cannot be read over V4L2; name the device by its /dev/v4l/by-id/ path,"
                                  " which contains the serial (got " + uri.depth_path + ")");
+  if (config.depth_intrinsics.width == 0)
+    return DriverResult::failure(config.name + ": depth_intrinsics are missing (V4L2 cannot read a D415's "
+                                 "calibration; copy it from the camera's calibration into the config)");
   if (!uri.color_path.empty() && config.color_intrinsics.width == 0)
     return DriverResult::failure(config.name + ": uri names a colour node but color_intrinsics are missing");
   config_ = config;

@@ -109,6 +109,9 @@ TEST_CASE("camera config errors name the file, camera and field", "[camera_confi
   short_t["depth_to_color"]["translation_m"] = {0.01, 0};
   CHECK_THAT(error_of({short_t}), Catch::Contains("'depth_to_color.translation_m'") && Catch::Contains("array of 3 numbers"));
 
+  json no_intrinsics = good_camera("cam_left");
+  no_intrinsics.erase("depth_intrinsics");  // optional: simulated and OpenNI2 cameras know theirs
+  CHECK(drivers::parse_camera_configs(json::array({no_intrinsics}), "cell.json")[0].depth_intrinsics.width == 0);
   json missing = good_camera("cam_left");
   missing.erase("camera_to_cell");
   CHECK_THAT(error_of({missing}), Catch::Contains("camera 0 (cam_left): field 'camera_to_cell' is missing"));

@@ -149,6 +149,9 @@ TEST_CASE("v4l2 format negotiation failures name the device, the ioctl and both 
   CHECK_THAT(cam.configure(c).message, Catch::Contains("expected depth=/dev/videoN[,color=/dev/videoM]"));
   rig.io->faults[VIDIOC_REQBUFS] = {ENOMEM};
   CHECK_THAT(cam.configure(rig.config).message, Catch::Contains("/dev/video0: VIDIOC_REQBUFS: Cannot allocate memory"));
+  c = rig.config;
+  c.depth_intrinsics = drivers::Intrinsics{};  // the config file left them out
+  CHECK_THAT(cam.configure(c).message, Catch::Contains("cam_emulated: depth_intrinsics are missing"));
   CHECK(rig.io->open_fds() == 0);  // nothing left open after failures
 }
 
