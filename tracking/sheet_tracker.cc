@@ -119,7 +119,7 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
 
   r.coverage = compute_coverage(r.vertices_m, prediction.triangles, cloud, config_.coverage);
   r.times.coverage_ms = ms_since(t);
-  r.prediction_error = compute_prediction_error(resampled_, prediction.vertices_m, r.vertices_m);
+  r.prediction_error = compute_prediction_error(resampled_, prediction.vertices_m, prediction.triangles, r.vertices_m);
   r.times.prediction_error_ms = ms_since(t);
   // Only cycles that tracked count, so the first good cycle always checks.
   const int every = std::max(config_.calibration.every_n_cycles, 1);

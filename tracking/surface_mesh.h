@@ -34,6 +34,13 @@ std::vector<double> vertex_areas(const std::vector<Vec3>& vertices_m,
 std::vector<Vec3> vertex_normals(const std::vector<Vec3>& vertices_m,
                                  const std::vector<Eigen::Vector3i>& triangles);
 
+// The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// For each vertex, the triangles around it (indices into `triangles`).
+std::vector<std::vector<int>> vertex_triangles(int vertex_count,
+                                               const std::vector<Eigen::Vector3i>& triangles);
+
 // A flat regular grid in the plane z = 0, centred on the origin: cols x rows vertices spanning
 // width_m (x) by height_m (y), two triangles per cell, rest_uv_m = (x, y). Used by tests and the
 // benchmark to make meshes the size of the twin's.

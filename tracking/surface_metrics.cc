@@ -30,6 +30,7 @@ Coverage compute_coverage(const std::vector<Vec3>& vertices_m,
 
 PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& observed_m,
                                          const std::vector<Vec3>& predicted_m,
+                                         const std::vector<Eigen::Vector3i>& triangles,
                                          const std::vector<Vec3>& tracked_m) {
   PredictionError e;
   const std::size_t n = std::min(predicted_m.size(), tracked_m.size());
@@ -48,16 +49,29 @@ PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& obs
   std::vector<int> nearest;
   std::vector<float> d2;
   index.nearest(observed_m, std::numeric_limits<float>::infinity(), nearest, d2);
-  double sum = 0.0, worst = 0.0;
+  const std::vector<std::vector<int>> around =
+      vertex_triangles(static_cast<int>(predicted_m.size()), triangles);
+  double sum = 0.0, worst = 0.0, surface_sum = 0.0, surface_worst = 0.0;
   for (int k = 0; k < m; ++k) {
     const double d = std::sqrt(static_cast<double>(d2[k]));
     sum += d;
     worst = std::max(worst, d);
+    const Vec3 p = observed_m[k].cast<double>();
+    double ds = d;
+    for (int f : around[nearest[k]]) {
+      const Eigen::Vector3i& t = triangles[f];
+      const Vec3 q = closest_point_on_triangle(p, predicted_m[t[0]], predicted_m[t[1]], predicted_m[t[2]]);
+      ds = std::min(ds, (p - q).norm());
+    }
+    surface_sum += ds;
+    surface_worst = std::max(surface_worst, ds);
   }
   e.points = m;
   e.mean_m = sum / m;
   e.max_m = worst;
   e.score_m = e.mean_m + 0.5 * e.max_m;
+  e.surface_mean_m = surface_sum / m;
+  e.surface_max_m = surface_worst;
   return e;
 }
 

@@ -111,8 +111,9 @@ TEST_CASE("three simulated D415s: the tracked sheet lies within 5 mm mean, 20 mm
   CHECK(f.mean_m <= 0.005);
   CHECK(f.max_m <= 0.020);
   CHECK(r.coverage.fraction > 0.8);
-  // The prediction error the cell publishes sees the wrong material.
-  CHECK(r.prediction_error.max_m > 0.01);
+  // The prediction error the cell publishes sees the wrong material (against the predicted
+  // surface, so the mesh's vertex spacing does not count as error).
+  CHECK(r.prediction_error.surface_max_m > 0.03);
 }
 
 TEST_CASE("one simulated D415 dead: tracking continues from two and reports the lower coverage",

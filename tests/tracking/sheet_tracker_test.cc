@@ -117,6 +117,12 @@ TEST_CASE("prediction error: Algorithm 1 figures and tracked minus predicted per
   CHECK(right.prediction_error.max_m < 0.025);
   CHECK(e.mean_m > right.prediction_error.mean_m + 0.005);
   CHECK(e.max_m > right.prediction_error.max_m + 0.01);
+  // Against the predicted surface the right prediction leaves only noise and the mesh's chords
+  // (a few mm), far below its vertex figure; the wrong one still shows its offset.
+  CHECK(right.prediction_error.surface_mean_m < 0.004);
+  CHECK(right.prediction_error.surface_mean_m < 0.5 * right.prediction_error.mean_m);
+  CHECK(e.surface_max_m > right.prediction_error.surface_max_m + 0.01);
+  CHECK(e.surface_mean_m <= e.mean_m);
   // Per vertex, tracked minus predicted is the true correction: vertical here, since the two
   // shapes differ in height over the same footprint.
   double mismatch = 0.0;
