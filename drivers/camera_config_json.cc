@@ -2,9 +2,10 @@
 
 #include <cmath>
 #include <fstream>
-#include <initializer_list>
 #include <set>
 #include <stdexcept>
+
+#include "drivers/json_field.h"
 
 namespace drivers {
 namespace {
@@ -13,72 +14,12 @@ using nlohmann::json;
 
 constexpr double kQuaternionTolerance = 1e-3;  // |q| may differ from 1 by this much
 
-// A value with the text that locates it ("cell.json: camera 1 (cam_right): field 'x.y'").
-class Field {
- public:
-  Field(const json& value, std::string where, std::string path)
-      : value_(value), where_(std::move(where)), path_(std::move(path)) {}
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::invalid_argument(where_ + ": field '" + path_ + "' " + what);
-  }
-  bool has(const char* key) const { return value_.contains(key); }
-  Field operator[](const char* key) const {
-    if (!value_.contains(key)) Field(value_, where_, child(key)).fail("is missing");
-    return Field(value_.at(key), where_, child(key));
-  }
-  void only_keys(std::initializer_list<const char*> known) const {
-    if (!value_.is_object()) fail("must be an object");
-    for (const auto& item : value_.items()) {
-      bool ok = false;
-      for (const char* k : known) ok |= item.key() == k;
-      if (ok) continue;
-      std::string list;
-      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      Field(item.value(), where_, child(item.key())).fail("is not a known field; expected one of: " + list);
-    }
-  }
-  double number() const {
-    if (!value_.is_number()) fail("must be a number");
-    const double v = value_.get<double>();
-    if (!std::isfinite(v)) fail("must be finite");
-    return v;
-  }
-  double positive() const {
-    const double v = number();
-    if (v <= 0) fail("must be > 0 (got " + std::to_string(v) + ")");
-    return v;
-  }
-  int positive_int() const {
-    if (!value_.is_number_integer() || value_.get<long long>() <= 0 || value_.get<long long>() > 1000000)
-      fail("must be a positive integer");
-    return value_.get<int>();
-  }
-  std::string string() const {
-    if (!value_.is_string()) fail("must be a string");
-    return value_.get<std::string>();
-  }
-  std::vector<double> numbers(std::size_t n) const {
-    if (!value_.is_array() || value_.size() != n)
-      fail("must be an array of " + std::to_string(n) + " numbers");
-    std::vector<double> out;
-    for (std::size_t i = 0; i < n; ++i)
-      out.push_back(Field(value_[i], where_, path_ + "[" + std::to_string(i) + "]").number());
-    return out;
-  }
-
- private:
-  std::string child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-  const json& value_;
-  std::string where_, path_;
-};
-
-StreamMode parse_mode(const Field& f) {
+StreamMode parse_mode(const JsonField& f) {
   f.only_keys({"width", "height", "fps"});
   return {f["width"].positive_int(), f["height"].positive_int(), f["fps"].positive_int()};
 }
 
-Intrinsics parse_intrinsics(const Field& f, const StreamMode& mode, const char* mode_name) {
+Intrinsics parse_intrinsics(const JsonField& f, const StreamMode& mode, const char* mode_name) {
   f.only_keys({"width", "height", "fx", "fy", "cx", "cy", "distortion"});
   Intrinsics k;
   k.width = f["width"].positive_int();
@@ -97,7 +38,7 @@ Intrinsics parse_intrinsics(const Field& f, const StreamMode& mode, const char* 
   return k;
 }
 
-Eigen::Isometry3d parse_pose(const Field& f) {
+Eigen::Isometry3d parse_pose(const JsonField& f) {
   f.only_keys({"translation_m", "quaternion_wxyz", "rpy_deg"});
   const std::vector<double> t = f["translation_m"].numbers(3);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -121,7 +62,7 @@ Eigen::Isometry3d parse_pose(const Field& f) {
 }
 
 CameraConfig parse_camera(const json& value, const std::string& where) {
-  const Field f(value, where, "");
+  const JsonField f(value, where, "");
   f.only_keys({"name", "backend", "uri", "serial", "depth_mode", "color_mode", "depth_intrinsics",
                "color_intrinsics", "depth_to_color", "camera_to_cell", "depth_unit_mm",
                "read_timeout_ms", "stale_after_ms", "frozen_after_frames"});

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "drivers/json_field.h"
+
 namespace drivers {
 namespace {
 
@@ -28,60 +30,36 @@ json pose_json(const Eigen::Isometry3d& t) {
   return a;
 }
 
-// Field access that names session.json and the field on failure.
-struct Reader {
-  std::string file;
-  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw std::runtime_error(fmt::format("{}: field '{}' {}", file, field, what));
-  }
-  const json& at(const json& obj, const std::string& key, const std::string& field) const {
-    if (!obj.is_object()) fail(field, "must be an object");
-    if (!obj.contains(key)) fail(field + "." + key, "is missing");
-    return obj.at(key);
-  }
-  double number(const json& obj, const std::string& key, const std::string& field) const {
-    const json& v = at(obj, key, field);
-    if (!v.is_number() || !std::isfinite(v.get<double>())) fail(field + "." + key, "must be a finite number");
-    return v.get<double>();
-  }
-  int integer(const json& obj, const std::string& key, const std::string& field) const {
-    const json& v = at(obj, key, field);
-    if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 100000) {
-      fail(field + "." + key, "must be an integer in 0..100000");
-    }
-    return int(v.get<long long>());
-  }
-  Intrinsics intrinsics(const json& obj, const std::string& field) const {
-    Intrinsics k;
-    k.width = integer(obj, "width", field);
-    k.height = integer(obj, "height", field);
-    k.fx = number(obj, "fx", field);
-    k.fy = number(obj, "fy", field);
-    k.cx = number(obj, "cx", field);
-    k.cy = number(obj, "cy", field);
-    k.k1 = number(obj, "k1", field);
-    k.k2 = number(obj, "k2", field);
-    k.p1 = number(obj, "p1", field);
-    k.p2 = number(obj, "p2", field);
-    k.k3 = number(obj, "k3", field);
-    return k;
-  }
-  StreamMode mode(const json& obj, const std::string& field) const {
-    return {integer(obj, "width", field), integer(obj, "height", field), integer(obj, "fps", field)};
-  }
-  Eigen::Isometry3d pose(const json& v, const std::string& field) const {
-    if (!v.is_array() || v.size() != 16) fail(field, "must be 16 numbers (4x4 row-major)");
-    Eigen::Matrix4d m;
-    for (int i = 0; i < 16; ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>())) fail(field, "must hold finite numbers");
-      m(i / 4, i % 4) = v[i].get<double>();
-    }
-    if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) fail(field, "must end with the row 0 0 0 1");
-    Eigen::Isometry3d t;
-    t.matrix() = m;
-    return t;
-  }
-};
+Intrinsics read_intrinsics(const JsonField& f) {
+  Intrinsics k;
+  k.width = f["width"].integer(0, 100000);  // 0: a camera without colour
+  k.height = f["height"].integer(0, 100000);
+  k.fx = f["fx"].number();
+  k.fy = f["fy"].number();
+  k.cx = f["cx"].number();
+  k.cy = f["cy"].number();
+  k.k1 = f["k1"].number();
+  k.k2 = f["k2"].number();
+  k.p1 = f["p1"].number();
+  k.p2 = f["p2"].number();
+  k.k3 = f["k3"].number();
+  return k;
+}
+
+StreamMode read_mode(const JsonField& f) {
+  return {f["width"].integer(0, 100000), f["height"].integer(0, 100000), f["fps"].integer(0, 100000)};
+}
+
+Eigen::Isometry3d read_pose(const JsonField& f) {
+  if (!f.value().is_array() || f.value().size() != 16) f.fail("must be 16 numbers (4x4 row-major)");
+  const std::vector<double> v = f.numbers(16);
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = v[i];
+  if (m.row(3) != Eigen::RowVector4d(0, 0, 0, 1)) f.fail("must end with the row 0 0 0 1");
+  Eigen::Isometry3d t;
+  t.matrix() = m;
+  return t;
+}
 
 }  // namespace
 
@@ -123,7 +101,6 @@ std::string write_session(const std::filesystem::path& dir, const std::vector<Se
 
 std::vector<SessionCamera> read_session(const std::filesystem::path& dir) {
   const std::filesystem::path file = dir / "session.json";
-  const Reader r{file.string()};
   std::ifstream in(file);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open (not a recorded session?)", file.string()));
   json doc;
@@ -132,34 +109,27 @@ std::vector<SessionCamera> read_session(const std::filesystem::path& dir) {
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", file.string(), e.what()));
   }
-  const json& format = r.at(doc, "format", "");
-  if (format != kSessionFormat) r.fail("format", fmt::format("must be \"{}\"", kSessionFormat));
-  if (r.integer(doc, "version", "") != kSessionVersion) r.fail("version", fmt::format("must be {}", kSessionVersion));
-  const json& cams = r.at(doc, "cameras", "");
-  if (!cams.is_array()) r.fail("cameras", "must be an array");
+  const JsonField r(doc, file.string());
+  if (r["format"].value() != kSessionFormat) r["format"].fail(fmt::format("must be \"{}\"", kSessionFormat));
+  if (r["version"].integer(0, 100000) != kSessionVersion) r["version"].fail(fmt::format("must be {}", kSessionVersion));
+  const JsonField cams = r["cameras"];
   std::vector<SessionCamera> out;
   for (std::size_t i = 0; i < cams.size(); ++i) {
-    const std::string f = fmt::format("cameras[{}]", i);
-    const json& c = cams[i];
+    const JsonField c = cams.at(i);
     SessionCamera s;
-    const json& name = r.at(c, "name", f);
-    if (!name.is_string()) r.fail(f + ".name", "must be a string");
-    s.name = name.get<std::string>();
-    if (const std::string why = check_camera_name(s.name); !why.empty()) r.fail(f + ".name", why);
-    const json& index = r.at(c, "index", f);
-    if (!index.is_string()) r.fail(f + ".index", "must be a string (path relative to the session)");
-    s.index = index.get<std::string>();
-    s.depth_mode = r.mode(r.at(c, "depth_mode", f), f + ".depth_mode");
-    s.color_mode = r.mode(r.at(c, "color_mode", f), f + ".color_mode");
-    s.depth_unit_mm = r.number(c, "depth_unit_mm", f);
-    if (!(s.depth_unit_mm > 0)) r.fail(f + ".depth_unit_mm", "must be > 0");
-    s.depth_intrinsics = r.intrinsics(r.at(c, "depth_intrinsics", f), f + ".depth_intrinsics");
+    s.name = c["name"].string();
+    if (const std::string why = check_camera_name(s.name); !why.empty()) c["name"].fail(why);
+    s.index = c["index"].string();  // path relative to the session
+    s.depth_mode = read_mode(c["depth_mode"]);
+    s.color_mode = read_mode(c["color_mode"]);
+    s.depth_unit_mm = c["depth_unit_mm"].positive();
+    s.depth_intrinsics = read_intrinsics(c["depth_intrinsics"]);
     if (s.depth_intrinsics.width <= 0 || s.depth_intrinsics.height <= 0) {
-      r.fail(f + ".depth_intrinsics", "must have a positive width and height");
+      c["depth_intrinsics"].fail("must have a positive width and height");
     }
-    s.color_intrinsics = r.intrinsics(r.at(c, "color_intrinsics", f), f + ".color_intrinsics");
-    s.depth_to_color = r.pose(r.at(c, "depth_to_color", f), f + ".depth_to_color");
-    s.camera_to_cell = r.pose(r.at(c, "camera_to_cell", f), f + ".camera_to_cell");
+    s.color_intrinsics = read_intrinsics(c["color_intrinsics"]);
+    s.depth_to_color = read_pose(c["depth_to_color"]);
+    s.camera_to_cell = read_pose(c["camera_to_cell"]);
     out.push_back(std::move(s));
   }
   return out;

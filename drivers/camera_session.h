@@ -52,7 +52,8 @@ struct SessionIndexEntry {
 std::string check_camera_name(const std::string& name);
 
 // session.json of `dir`. write_session returns "" or an error naming the file; read_session
-// throws std::runtime_error naming the file and the field ("cameras[1].fx") and what was expected.
+// throws std::runtime_error naming the file when it cannot be opened or parsed, and
+// std::invalid_argument naming the file and the field ("cameras[1].fx") and what was expected.
 std::string write_session(const std::filesystem::path& dir, const std::vector<SessionCamera>& cameras);
 std::vector<SessionCamera> read_session(const std::filesystem::path& dir);
 

@@ -2,6 +2,12 @@
 
 namespace drivers {
 
+std::int64_t host_clock_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 const char* to_string(ReadStatus status) {
   switch (status) {
     case ReadStatus::kFrame: return "frame";

@@ -60,7 +60,7 @@ struct DepthFrame {
   std::string camera;          // CameraConfig::name
   std::uint64_t sequence = 0;  // device frame counter (gaps = dropped frames)
   std::int64_t device_time_us = 0;  // sensor timestamp (device clock)
-  std::int64_t host_time_us = 0;    // when the host received it (steady clock)
+  std::int64_t host_time_us = 0;    // when the host received it (host_clock_us())
   Intrinsics depth_intrinsics;
   std::vector<std::uint16_t> depth_mm;  // width*height, row-major, 0 = invalid
   Intrinsics color_intrinsics;          // width 0 when the frame has no colour
@@ -110,6 +110,10 @@ class DepthCamera {
   virtual CameraHealth health() const = 0;
   virtual DriverResult deactivate() = 0;
 };
+
+// The host clock of DepthFrame::host_time_us: std::chrono::steady_clock in us, one definition
+// for every back-end so host times of different cameras compare.
+std::int64_t host_clock_us();
 
 const char* to_string(ReadStatus status);
 const char* to_string(CameraState state);

@@ -14,16 +14,11 @@
 #include "drivers/openni2_frames.h"
 #include "drivers/openni2_modes.h"
 #include "drivers/openni2_runtime.h"
-#include "drivers/stream_checks.h"
 
 namespace drivers {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::int64_t host_now_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
-}
 
 // "path.oni?speed=X" -> path and speed; any other URI is passed to OpenNI2 unchanged.
 struct ParsedUri {
@@ -198,7 +193,7 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
       }
       recording_frames_ = playback->getNumberOfFrames(depth_);
     }
-    checks_.reset();
+    last_sequence_ = 0;
     colors_.clear();
     return DriverResult::success();
   }
@@ -267,7 +262,7 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
   }
 
   ReadStatus timed_out() {
-    if (recording_frames_ > 0 && checks_.last_sequence() >= static_cast<std::uint64_t>(recording_frames_)) {
+    if (recording_frames_ > 0 && last_sequence_ >= static_cast<std::uint64_t>(recording_frames_)) {
       set_state(CameraState::kDegraded,
                 fmt::format("end of recording {} after {} depth frames", uri_.device, recording_frames_));
       return ReadStatus::kTimeout;
@@ -321,7 +316,7 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
     frame.camera = config_.name;
     frame.sequence = static_cast<std::uint64_t>(ref.getFrameIndex());
     frame.device_time_us = static_cast<std::int64_t>(ref.getTimestamp());
-    frame.host_time_us = host_now_us();
+    frame.host_time_us = host_clock_us();
     frame.depth_intrinsics = stream_intrinsics(depth_, config_.depth_intrinsics, width, height);
     copy_openni2_depth(ref, frame.depth_mm);
     frame.depth_to_color = config_.depth_to_color;
@@ -330,12 +325,11 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
     const ColorImage* best = colors_.nearest(frame.device_time_us);
     frame.color_intrinsics = best != nullptr ? best->intrinsics : Intrinsics{};
     frame.rgb = best != nullptr ? best->rgb : std::vector<std::uint8_t>{};
-    return classify(frame);
-  }
-
-  ReadStatus classify(const DepthFrame& frame) {
+    last_sequence_ = frame.sequence;
     std::lock_guard lock(health_mutex_);
-    return checks_.check(frame, config_.frozen_after_frames, health_);
+    ++health_.frames;
+    health_.last_frame_host_time_us = frame.host_time_us;
+    return ReadStatus::kFrame;
   }
 
   void set_state(CameraState state, const std::string& message) {
@@ -361,7 +355,9 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
   std::atomic<bool> disconnected_{false};
 
   ColorHistory colors_;
-  StreamChecks checks_;  // guarded by health_mutex_
+  // OpenNI2's frame index of the last depth frame (0 = none yet): tells the end of a recording
+  // from a timeout. Dropped, stale and frozen frames are MonitoredDepthCamera's to judge.
+  std::uint64_t last_sequence_ = 0;
 
   mutable std::mutex health_mutex_;
   CameraHealth health_;

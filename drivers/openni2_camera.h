@@ -17,8 +17,9 @@
 // Intrinsics: config.depth_intrinsics / color_intrinsics (the unit's calibration) when their size
 // matches the frame; otherwise pinhole intrinsics from the field of view OpenNI2 reports, with
 // the principal point at the image centre (OpenNI2 carries no more than the FOV).
-// sequence = OpenNI2's frame index, device_time_us = its timestamp (us); frames whose timestamp
-// does not advance are kStale, repeated images kFrozen, index gaps count as dropped.
+// sequence = OpenNI2's frame index, device_time_us = its timestamp (us). read() reports only what
+// the driver knows (kFrame, kTimeout, kLost, kNotActive) and counts frames in health(); dropped,
+// stale and frozen frames are judged by MonitoredDepthCamera (make_monitored_depth_camera).
 
 #include <memory>
 

@@ -8,14 +8,6 @@
 #include "drivers/pnm_image.h"
 
 namespace drivers {
-namespace {
-
-std::int64_t steady_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
 
 DriverResult ReplayDepthCamera::configure(const CameraConfig& config) {
   if (active_) return DriverResult::failure("replay camera: configure() while active; deactivate first");
@@ -82,7 +74,7 @@ DriverResult ReplayDepthCamera::activate() {
   next_ = 0;
   have_last_ = false;
   start_ = std::chrono::steady_clock::now();
-  start_us_ = steady_us();
+  start_us_ = host_clock_us();
   offset_us_ = index_.front().host_time_us;
   active_ = true;
   health_.state = CameraState::kActive;
@@ -140,7 +132,7 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
       // Loop: the next pass starts where the last one ended.
       const auto now = std::chrono::steady_clock::now();
       start_ = now;
-      start_us_ = steady_us();
+      start_us_ = host_clock_us();
       offset_us_ = index_.front().host_time_us;
       next_ = 0;
       have_last_ = false;

@@ -13,10 +13,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::chrono::milliseconds kFirstBackoff{100}, kMaxBackoff{2000};
 
-std::int64_t steady_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
-}
-std::int64_t steady_ms() { return steady_us() / 1000; }
+std::int64_t steady_ms() { return host_clock_us() / 1000; }
 
 }  // namespace
 
@@ -159,7 +156,7 @@ ReadStatus V4l2D415Camera::read(DepthFrame& frame) {
   frame.camera = config_.name;
   frame.sequence = depth_image_.sequence;
   frame.device_time_us = depth_image_.timestamp_us;
-  frame.host_time_us = steady_us();
+  frame.host_time_us = host_clock_us();
   frame.depth_intrinsics = config_.depth_intrinsics;
   frame.depth_to_color = config_.depth_to_color;
   frame.camera_to_cell = config_.camera_to_cell;

@@ -16,12 +16,6 @@ namespace {
 // A device clock starts when the camera powers up, not when the host starts streaming (us).
 constexpr std::int64_t kDeviceEpochUs = 5'000'000;
 
-std::int64_t steady_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 std::string mode_list(const std::vector<drivers::StreamMode>& modes) {
   std::string s;
   for (const auto& m : modes) s += fmt::format("{}{}x{}@{}", s.empty() ? "" : ", ", m.width, m.height, m.fps);
@@ -105,7 +99,7 @@ drivers::DriverResult SimulatedD415Camera::activate() {
   have_last_ = lost_ = false;
   sim_time_s_ = 0.0;
   activated_at_ = std::chrono::steady_clock::now();
-  host_epoch_us_ = steady_us();
+  host_epoch_us_ = drivers::host_clock_us();
   active_ = true;
   health_.state = drivers::CameraState::kActive;
   health_.message.clear();
@@ -196,7 +190,7 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
     device_us = last_device_time_us_;
   }
   frame.device_time_us = device_us;
-  frame.host_time_us = options_.clock == SimClock::kSimulated ? host_epoch_us_ + std::llround(t * 1e6) : steady_us();
+  frame.host_time_us = options_.clock == SimClock::kSimulated ? host_epoch_us_ + std::llround(t * 1e6) : drivers::host_clock_us();
   frame.depth_intrinsics = depth_k_;
   frame.color_intrinsics = color_k_;
   frame.depth_to_color = depth_to_color_;

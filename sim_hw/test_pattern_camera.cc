@@ -114,9 +114,7 @@ drivers::ReadStatus TestPatternCamera::read(drivers::DepthFrame& frame) {
   const std::uint64_t clock =
       stale_after_ >= 0 ? std::min<std::uint64_t>(sequence_, stale_after_) : sequence_;
   frame.device_time_us = static_cast<std::int64_t>(clock * 1000000 / d.fps);
-  frame.host_time_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                           std::chrono::steady_clock::now().time_since_epoch())
-                           .count();
+  frame.host_time_us = drivers::host_clock_us();
   frame.depth_intrinsics = intrinsics_for(config_.depth_intrinsics, d);
   frame.depth_mm.resize(static_cast<std::size_t>(d.width) * d.height);
   for (int y = 0; y < d.height; ++y) {
