@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 #include <fmt/format.h>
@@ -83,7 +82,8 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
     std::sort(all.begin(), all.end());
     s.border.assign(n, 0);
     for (std::size_t k = 0; k < all.size(); ++k) {
-      const bool once = (k == 0 || all[k] != all[k - 1]) && (k + 1 == all.size() || all[k] != all[k + 1]);
+      const bool once =
+          (k == 0 || all[k] != all[k - 1]) && (k + 1 == all.size() || all[k] != all[k + 1]);
       if (once) s.border[all[k].first] = s.border[all[k].second] = 1;
     }
   }
@@ -132,16 +132,7 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
   prepare_topology(prediction);
   Solver& s = *solver_;
   const std::vector<Vec3>& p = prediction.vertices_m;
-  RegistrationOptions o = options_;  // EXPERIMENT
-  if (const char* e = std::getenv("REG_IT")) o.max_iterations = std::atoi(e);
-  if (const char* e = std::getenv("REG_STRIDE")) o.cloud_stride = std::atoi(e);
-  if (const char* e = std::getenv("REG_GATE")) o.initial_gate_m = std::atof(e);
-  if (const char* e = std::getenv("REG_KAPPA")) o.stretch_weight = std::atof(e);
-  if (const char* e = std::getenv("REG_MU")) o.smoothness_weight = std::atof(e);
-  if (const char* e = std::getenv("REG_GAMMA")) o.cloud_to_surface_weight = std::atof(e);
-  if (const char* e = std::getenv("REG_BETA")) o.point_weight = std::atof(e);
-  if (const char* e = std::getenv("REG_BBETA")) o.border_point_weight = std::atof(e);
-  if (const char* e = std::getenv("REG_REST")) o.use_rest_lengths = std::atoi(e);
+  const RegistrationOptions& o = options_;
 
   const std::vector<double> rest = reference_lengths(prediction, s.edges, o.use_rest_lengths);
   double mean_edge = 0.0;
@@ -256,7 +247,6 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
       x[i] = next;
     }
     result.iterations = it + 1;
-    if (std::getenv("REG_PROF")) fmt::print(stderr, "it {} gate {:.3f} step {:.4f} matched {} fact {}\n", it, gate, largest_step, matched, result.factorisations);
     const bool gate_final = gate <= o.final_gate_m;
     gate = std::max(0.5 * gate, o.final_gate_m);
     if (gate_final && largest_step < o.converged_step_m) break;

@@ -172,6 +172,7 @@ TrackerConfig parse_tracker_config(const std::string& text, const std::string& s
     f.number("smoothing_length_m", r.smoothing_length_m, 0.0, 10.0);
     f.number("smoothness_weight", r.smoothness_weight, 0.0, kInf);
     f.number("point_weight", r.point_weight, 0.0, kInf);
+    f.number("border_point_weight", r.border_point_weight, 0.0, kInf);
     f.number("cloud_to_surface_weight", r.cloud_to_surface_weight, 0.0, kInf);
     f.number("stretch_weight", r.stretch_weight, 0.0, kInf);
     f.boolean("use_rest_lengths", r.use_rest_lengths);
