@@ -1,7 +1,8 @@
-// Gauss-Newton normal-displacement registration with an edge regulariser (stage 4).
+// Local-global 3D registration: point-to-plane, cloud-to-surface, rest edge lengths (stage 4).
 #include "tracking/surface_registration.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,25 @@
 #include <Eigen/CholmodSupport>
 
 namespace tracking {
+
+namespace {
+
+// Reference length of each edge: from the rest (material) coordinates when the mesh has them,
+// else as predicted.
+std::vector<double> reference_lengths(const SurfaceMesh& mesh,
+                                      const std::vector<std::pair<int, int>>& edges,
+                                      bool use_rest) {
+  std::vector<double> length(edges.size());
+  const bool rest = use_rest && !mesh.rest_uv_m.empty();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto [a, b] = edges[e];
+    length[e] = rest ? (mesh.rest_uv_m[a] - mesh.rest_uv_m[b]).norm()
+                     : (mesh.vertices_m[a] - mesh.vertices_m[b]).norm();
+  }
+  return length;
+}
+
+}  // namespace
 
 const char* to_string(RegistrationStatus status) {
   switch (status) {
@@ -31,10 +51,14 @@ struct SurfaceRegistration::Solver {
   std::vector<int> diagonal;  // index into the value array of entry (i, i)
   // Per edge, the value-array indices of (a, b) and (b, a).
   std::vector<std::pair<int, int>> off_diagonal;
+  std::vector<std::uint8_t> border;  // 1 for a vertex on an edge of only one triangle
   Eigen::SparseMatrix<double> system;
   // CHOLMOD (its own fill-reducing ordering; supernodal when it pays) measured ~25% faster
-  // than Eigen's SimplicialLDLT on the 3111-vertex benchmark mesh.
+  // than Eigen's SimplicialLDLT on the 3111-vertex benchmark mesh (scalar system, n x n).
   Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  bool factorised = false;
+  std::array<double, 6> weights{};  // the weights the factorisation was made with
+  std::vector<std::uint8_t> terms;  // and the terms per vertex
 };
 
 SurfaceRegistration::SurfaceRegistration() : solver_(std::make_unique<Solver>()) {}
@@ -47,6 +71,22 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
   s.triangles = prediction.triangles;
   s.vertices = n;
   s.edges = unique_edges(prediction.triangles);
+  {
+    std::vector<std::pair<int, int>> all;  // every triangle's edges, an inner edge twice
+    all.reserve(3 * prediction.triangles.size());
+    for (const Eigen::Vector3i& t : prediction.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        all.emplace_back(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+      }
+    }
+    std::sort(all.begin(), all.end());
+    s.border.assign(n, 0);
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      const bool once =
+          (k == 0 || all[k] != all[k - 1]) && (k + 1 == all.size() || all[k] != all[k + 1]);
+      if (once) s.border[all[k].first] = s.border[all[k].second] = 1;
+    }
+  }
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(n + 2 * s.edges.size());
   for (int i = 0; i < n; ++i) entries.emplace_back(i, i, 1.0);
@@ -68,6 +108,7 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
   s.off_diagonal.clear();
   for (const auto& [a, b] : s.edges) s.off_diagonal.emplace_back(entry(a, b), entry(b, a));
   s.factor.analyzePattern(s.system);
+  s.factorised = false;
   ++symbolic_analyses_;
 }
 
@@ -91,70 +132,132 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
   prepare_topology(prediction);
   Solver& s = *solver_;
   const std::vector<Vec3>& p = prediction.vertices_m;
+  const RegistrationOptions& o = options_;
 
+  const std::vector<double> rest = reference_lengths(prediction, s.edges, o.use_rest_lengths);
   double mean_edge = 0.0;
-  for (const auto& [a, b] : s.edges) mean_edge += (p[a] - p[b]).norm();
-  mean_edge /= std::max<std::size_t>(s.edges.size(), 1);
-  const double lambda = std::pow(options_.smoothing_length_m / std::max(mean_edge, 1e-6), 2);
-  const double eps = options_.prior_weight;
+  for (const double l : rest) mean_edge += l;
+  mean_edge /= std::max<std::size_t>(rest.size(), 1);
+  const double scale = std::pow(o.smoothing_length_m / std::max(mean_edge, 1e-6), 2);
+  const double mu = o.smoothness_weight * scale;
+  const double kappa = o.stretch_weight * scale;
+  const double eps = o.prior_weight;
+  const double gamma = o.cloud_to_surface_weight;
+  const auto beta = [&](int i) { return s.border[i] ? o.border_point_weight : o.point_weight; };
+
+  // Every cloud_stride-th cloud point pulls its nearest vertex (cloud -> surface term).
+  std::vector<Eigen::Vector3f> cloud_sample;
+  const int stride = std::max(o.cloud_stride, 1);
+  cloud_sample.reserve(cloud.size() / stride + 1);
+  for (std::size_t k = 0; k < cloud.size(); k += stride) {
+    cloud_sample.push_back(cloud.point(static_cast<int>(k)));
+  }
 
   std::vector<Vec3>& x = result.vertices_m;
-  std::vector<int> match(n, -1);
-  std::vector<float> match_d2;
+  std::vector<int> match(n, -1), owner;
+  std::vector<float> match_d2, owner_d2;
   std::vector<Eigen::Vector3f> query(n);
-  Eigen::VectorXd rhs(n);
-  double* value = s.system.valuePtr();
-  double gate = options_.initial_gate_m;
-  for (int it = 0; it < options_.max_iterations; ++it) {
+  std::vector<Vec3> pulled(n);
+  std::vector<int> pulls(n);
+  std::vector<std::uint8_t> terms(n);  // 1: matched to the cloud, 2: only pulled by it, 0: neither
+  Eigen::MatrixX3d rhs(n, 3);
+  PointIndex vertex_index;
+  double gate = o.initial_gate_m;
+  for (int it = 0; it < o.max_iterations; ++it) {
     const std::vector<Vec3> normal = vertex_normals(x, prediction.triangles);
     for (int i = 0; i < n; ++i) query[i] = x[i].cast<float>();
     cloud.nearest(query, static_cast<float>(gate), match, match_d2);
+    vertex_index.build(query, 0);
+    vertex_index.nearest(cloud_sample, static_cast<float>(gate), owner, owner_d2);
+    std::fill(pulled.begin(), pulled.end(), Vec3::Zero());
+    std::fill(pulls.begin(), pulls.end(), 0);
+    int pulled_vertices = 0, pulling_points = 0;
+    for (std::size_t k = 0; k < cloud_sample.size(); ++k) {
+      if (owner[k] < 0) continue;
+      pulled_vertices += pulls[owner[k]]++ == 0;
+      ++pulling_points;
+      pulled[owner[k]] += cloud_sample[k].cast<double>();
+    }
+    // A vertex with fewer points than half the typical count (a border vertex half off the
+    // seen extent, a stray point) pulls with a proportionally smaller share.
+    const double typical = 0.5 * pulling_points / std::max(pulled_vertices, 1);
+
     int matched = 0;
     for (int i = 0; i < n; ++i) {
-      double h = eps;
-      double b = -eps * normal[i].dot(x[i] - p[i]);
+      Vec3 b = eps * p[i];
       if (match[i] >= 0) {
         ++matched;
-        h += 1.0;
-        b += normal[i].dot(cloud.point(match[i]).cast<double>() - x[i]);
+        const Vec3 c = cloud.point(match[i]).cast<double>();
+        b += x[i] - normal[i] * normal[i].dot(x[i] - c) + beta(i) * c;
       }
-      value[s.diagonal[i]] = h;
-      rhs[i] = b;
+      if (pulls[i] > 0 || match[i] >= 0) {
+        // A vertex with fewer points than typical pulls with that share of the weight; the
+        // rest holds it where it is (so the matrix weight does not depend on the count).
+        const double share = pulls[i] > 0 ? std::min(1.0, pulls[i] / typical) : 0.0;
+        b += gamma * (1.0 - share) * x[i];
+        if (share > 0.0) b += gamma * share * pulled[i] / pulls[i];
+      }
+      rhs.row(i) = b.transpose();
+      terms[i] = match[i] >= 0 ? 1 : (pulls[i] > 0 ? 2 : 0);
+    }
+    // The matrix depends only on which vertices have a match and which are pulled (and on the
+    // weights): refactorise only when that changed, which after the first iterations of a cycle
+    // (and from one cycle to the next while the sheet is seen alike) it rarely does.
+    const std::array<double, 6> weights{mu, kappa, eps, gamma, o.point_weight,
+                                        o.border_point_weight};
+    if (!s.factorised || weights != s.weights || terms != s.terms) {
+      double* value = s.system.valuePtr();
+      for (int i = 0; i < n; ++i) {
+        value[s.diagonal[i]] = eps + (terms[i] == 1 ? 1.0 + beta(i) : 0.0) +
+                               (terms[i] != 0 ? gamma : 0.0);
+      }
+      for (std::size_t e = 0; e < s.edges.size(); ++e) {
+        const auto [a, b] = s.edges[e];
+        value[s.diagonal[a]] += kappa + mu;
+        value[s.diagonal[b]] += kappa + mu;
+        value[s.off_diagonal[e].first] = value[s.off_diagonal[e].second] = -(kappa + mu);
+      }
+      s.factor.factorize(s.system);
+      s.factorised = s.factor.info() == Eigen::Success;
+      s.weights = weights;
+      s.terms = terms;
+      ++result.factorisations;
     }
     for (std::size_t e = 0; e < s.edges.size(); ++e) {
-      const auto [a, b] = s.edges[e];
-      const Vec3 d = (x[a] - x[b]) - (p[a] - p[b]);
-      value[s.diagonal[a]] += lambda;
-      value[s.diagonal[b]] += lambda;
-      const double coupling = -lambda * normal[a].dot(normal[b]);
-      value[s.off_diagonal[e].first] = coupling;
-      value[s.off_diagonal[e].second] = coupling;
-      rhs[a] -= lambda * normal[a].dot(d);
-      rhs[b] += lambda * normal[b].dot(d);
+      const auto [a, bb] = s.edges[e];
+      Vec3 d = x[a] - x[bb];
+      if (d.norm() < 1e-9) d = p[a] - p[bb];
+      const Vec3 target = kappa * rest[e] * d.normalized() + mu * (p[a] - p[bb]);
+      rhs.row(a) += target.transpose();
+      rhs.row(bb) -= target.transpose();
     }
     result.matched_vertices = matched;
-    s.factor.factorize(s.system);
-    Eigen::VectorXd step;
-    if (s.factor.info() == Eigen::Success) step = s.factor.solve(rhs);
-    if (s.factor.info() != Eigen::Success || !step.allFinite()) {
+    Eigen::MatrixX3d solution;
+    if (s.factorised) solution = s.factor.solve(rhs);
+    if (!s.factorised || s.factor.info() != Eigen::Success || !solution.allFinite()) {
       result.status = RegistrationStatus::kSolverFailed;
       result.message = fmt::format("sparse solve failed in iteration {}", it + 1);
       result.vertices_m = prediction.vertices_m;
       return result;
     }
-    for (int i = 0; i < n; ++i) x[i] += step[i] * normal[i];
+    double largest_step = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const Vec3 next = solution.row(i).transpose();
+      largest_step = std::max(largest_step, (next - x[i]).norm());
+      x[i] = next;
+    }
     result.iterations = it + 1;
-    const bool gate_final = gate <= options_.final_gate_m;
-    gate = std::max(0.5 * gate, options_.final_gate_m);
-    if (gate_final && step.cwiseAbs().maxCoeff() < options_.converged_step_m) break;
+    const bool gate_final = gate <= o.final_gate_m;
+    gate = std::max(0.5 * gate, o.final_gate_m);
+    if (gate_final && largest_step < o.converged_step_m) break;
   }
 
   for (int i = 0; i < n; ++i) query[i] = x[i].cast<float>();
-  cloud.nearest(query, static_cast<float>(options_.final_gate_m), match, match_d2);
+  cloud.nearest(query, static_cast<float>(o.final_gate_m), match, match_d2);
   for (int i = 0; i < n; ++i) {
     if (match[i] >= 0) {
       result.distance_to_cloud_m[i] = std::sqrt(static_cast<double>(match_d2[i]));
-      result.observed[i] = result.distance_to_cloud_m[i] <= options_.observed_distance_m;
+      result.observed[i] = result.distance_to_cloud_m[i] <= o.observed_distance_m;
     }
   }
   return result;

@@ -170,6 +170,13 @@ TrackerConfig parse_tracker_config(const std::string& text, const std::string& s
     f.number("initial_gate_m", r.initial_gate_m, 0.0, 10.0, true);
     f.number("final_gate_m", r.final_gate_m, 0.0, 10.0, true);
     f.number("smoothing_length_m", r.smoothing_length_m, 0.0, 10.0);
+    f.number("smoothness_weight", r.smoothness_weight, 0.0, kInf);
+    f.number("point_weight", r.point_weight, 0.0, kInf);
+    f.number("border_point_weight", r.border_point_weight, 0.0, kInf);
+    f.number("cloud_to_surface_weight", r.cloud_to_surface_weight, 0.0, kInf);
+    f.number("stretch_weight", r.stretch_weight, 0.0, kInf);
+    f.boolean("use_rest_lengths", r.use_rest_lengths);
+    f.integer("cloud_stride", r.cloud_stride, 1, 1000);
     f.number("prior_weight", r.prior_weight, 0.0, kInf, true);
     f.number("converged_step_m", r.converged_step_m, 0.0, 1.0);
     f.number("observed_distance_m", r.observed_distance_m, 0.0, 1.0, true);

@@ -136,6 +136,10 @@ double SaggingSheet::distance(const Vec3& point) const {
 SurfaceMesh SaggingSheet::mesh(int cols, int rows) const {
   SurfaceMesh m = make_grid_mesh(shape_.width_m, shape_.height_m, cols, rows);
   for (Vec3& v : m.vertices_m) v.z() = shape_.height_at(v.x(), v.y());
+  // z = f(x, y) over the flat grid stretches it by up to ~5 % where it slopes: the flat grid is
+  // not this sheet's material, so the mesh claims no rest coordinates (registration then keeps
+  // the edge lengths as given).
+  m.rest_uv_m.clear();
   return m;
 }
 

@@ -74,7 +74,8 @@ class SaggingSheet : public AnalyticSurface {
   std::optional<double> intersect(const Vec3& origin, const Vec3& direction) const override;
   double distance(const Vec3& point) const override;
   const SheetShape& shape() const { return shape_; }
-  // A grid mesh (cols x rows) of the sheet: vertices on the surface above the grid points.
+  // A grid mesh (cols x rows) of the sheet: vertices on the surface above the grid points, no
+  // rest coordinates (the flat grid is not the material of a sheet stretched over z = f(x, y)).
   SurfaceMesh mesh(int cols, int rows) const;
 
  private:

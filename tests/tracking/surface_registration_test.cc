@@ -103,6 +103,47 @@ TEST_CASE("parts nobody saw follow the prediction smoothly", "[tracker][registra
   }
 }
 
+TEST_CASE("registration recovers a sheet from a prediction more than 10 cm off",
+          "[tracker][registration]") {
+  // What a clamp release can leave the twin with: it predicts the sheet flat, the sheet sags
+  // 12 cm, tilts and ripples. The offset reaches 12 cm, mostly vertical, so on the slopes (up
+  // to 20 deg) a normal-only correction would leave the surface centimetres off.
+  testing::SheetShape truth;
+  truth.slope_x = 0.04;
+  truth.ripple_m = 0.015;
+  const testing::SaggingSheet sheet(truth, {0, 0, 0});
+  PointIndex cloud;
+  cloud.build(sample_sheet(truth, 0.008, 0.002, everywhere));
+  testing::SheetShape flat = truth;
+  flat.sag_m = 0.0;
+  flat.slope_x = 0.0;
+  flat.ripple_m = 0.0;
+  const SurfaceMesh prediction = testing::SaggingSheet(flat, {0, 0, 0}).mesh(30, 25);
+  double before = 0.0;
+  for (const Vec3& v : prediction.vertices_m) before = std::max(before, sheet.distance(v));
+  CHECK(before > 0.10);
+
+  SurfaceRegistration registration;
+  const RegistrationResult r = registration.fit(prediction, cloud);
+  REQUIRE(r.status == RegistrationStatus::kOk);
+  double mean = 0.0, worst = 0.0;
+  int seen = 0;
+  for (std::size_t i = 0; i < r.vertices_m.size(); ++i) {
+    if (!r.observed[i]) continue;
+    const double d = sheet.distance(r.vertices_m[i]);
+    mean += d;
+    worst = std::max(worst, d);
+    ++seen;
+  }
+  mean /= std::max(seen, 1);
+  INFO("prediction max " << before << " m; tracked mean " << mean << " max " << worst << " over "
+                         << seen << " observed of " << r.vertices_m.size() << ", iterations "
+                         << r.iterations);
+  CHECK(seen > 0.9 * r.vertices_m.size());
+  CHECK(mean < 0.003);
+  CHECK(worst < 0.012);
+}
+
 TEST_CASE("registration refuses a broken mesh or an empty cloud with a status",
           "[tracker][registration]") {
   SurfaceRegistration registration;

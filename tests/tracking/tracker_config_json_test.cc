@@ -29,7 +29,8 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
     "segmentation": {"box_min_m": [-1, -1, 0.4], "box_max_m": [1, 1, 1.5],
                      "color": {"max_value": 0.5, "hue_deg": [340, 20], "unknown": "reject"}},
     "resample": {"voxel_m": 0.01, "remove_outliers": true},
-    "registration": {"max_iterations": 3, "smoothing_length_m": 0.05},
+    "registration": {"max_iterations": 3, "smoothing_length_m": 0.05, "stretch_weight": 4,
+                     "use_rest_lengths": false, "cloud_stride": 2},
     "coverage": {"radius_m": 0.015, "min_points": 4},
     "calibration": {"every_n_cycles": 30, "max_median_m": 0.004},
     "min_sheet_points": 500
@@ -45,6 +46,9 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
   CHECK(c.resample.remove_outliers);
   CHECK(c.registration.max_iterations == 3);
   CHECK(c.registration.smoothing_length_m == 0.05);
+  CHECK(c.registration.stretch_weight == 4.0);
+  CHECK_FALSE(c.registration.use_rest_lengths);
+  CHECK(c.registration.cloud_stride == 2);
   CHECK(c.coverage.min_points == 4);
   CHECK(c.calibration.every_n_cycles == 30);
   CHECK(c.calibration.max_median_m == 0.004);
