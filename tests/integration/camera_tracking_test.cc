@@ -122,15 +122,14 @@ TEST_CASE("one simulated D415 dead: tracking continues from two and reports the 
   tracking::SheetTracker all(tracker_config()), two(tracker_config());
   const auto prediction = integration::to_surface_mesh(sheet().mesh, sheet().prediction_m);
   const tracking::TrackResult r3 = all.track(capture(configs), prediction);
-  const tracking::TrackResult r2 = two.track(capture(configs, "cam_right"), prediction);
+  const tracking::TrackResult r2 = two.track(capture(configs, "cam_left"), prediction);
   REQUIRE(r3.status == tracking::TrackStatus::kOk);
   REQUIRE(r2.status == tracking::TrackStatus::kOk);
   CHECK(r2.cameras_used.size() == 2);
   // The coverage each cloud gives the TRUE sheet (same definition, on the true surface): what
-  // the reported coverage must match. cam_right adds almost nothing the other two do not see
-  // (both come out ~0.994 here), so the two reported figures are equal up to how well the
-  // border is tracked; requiring the two-camera figure strictly below the three-camera one
-  // tested the registration's border noise, not coverage.
+  // the reported coverage must match. The three cameras overlap a lot; cam_left is the one whose
+  // loss hides part of the sheet (true coverage 0.994 -> 0.983; losing cam_right hides nothing),
+  // so the reported figure must drop with it.
   const tracking::SurfaceMesh truth = integration::to_surface_mesh(sheet().mesh, sheet().truth_m);
   const auto true_coverage = [&](const tracking::SheetTracker& t) {
     tracking::PointIndex cloud;
@@ -140,10 +139,10 @@ TEST_CASE("one simulated D415 dead: tracking continues from two and reports the 
         .fraction;
   };
   const double truth3 = true_coverage(all), truth2 = true_coverage(two);
-  CHECK(truth2 <= truth3);
+  CHECK(truth2 < truth3 - 0.005);
   CHECK(r3.coverage.fraction == Approx(truth3).margin(0.01));
   CHECK(r2.coverage.fraction == Approx(truth2).margin(0.01));
-  CHECK(r2.coverage.fraction <= r3.coverage.fraction + 0.01);
+  CHECK(r2.coverage.fraction < r3.coverage.fraction);
   CHECK(r2.coverage.fraction > 0.3);
   const Figures f = tracked_surface_error(r2);
   INFO("two cameras: mean " << 1e3 * f.mean_m << " mm, max " << 1e3 * f.max_m << " mm, coverage "
