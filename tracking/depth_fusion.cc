@@ -155,6 +155,9 @@ FrameReport DepthFusion::add_frame(const drivers::DepthFrame& frame, int camera_
   slot_points_.resize(slots);
   slot_rgb_.resize(3 * slots);
   slot_flags_.resize(slots);
+  const bool crop = options_.crop_to_box;
+  const Eigen::Array3f box_min = options_.box_min_m.array(), box_max = options_.box_max_m.array();
+  constexpr std::uint8_t kOutsideBox = 2;  // slot flags: 0 invalid, 1 valid, 3 valid and coloured
 #pragma omp parallel for schedule(static)
   for (int row = 0; row < rows; ++row) {
     const int v = row * stride;
@@ -167,7 +170,12 @@ FrameReport DepthFusion::add_frame(const drivers::DepthFrame& frame, int camera_
       if (d < min_mm || d > max_mm) continue;
       const float z = 1e-3f * d;
       const Eigen::Vector3f p_cam(rays[pixel].x() * z, rays[pixel].y() * z, z);
-      slot_points_[slot] = r * p_cam + t;
+      const Eigen::Vector3f p_cell = r * p_cam + t;
+      if (crop && ((p_cell.array() < box_min).any() || (p_cell.array() > box_max).any())) {
+        slot_flags_[slot] = kOutsideBox;
+        continue;
+      }
+      slot_points_[slot] = p_cell;
       slot_flags_[slot] = 1;
       slot_rgb_[3 * slot] = slot_rgb_[3 * slot + 1] = slot_rgb_[3 * slot + 2] = 0;
       if (!use_color) continue;
@@ -185,15 +193,21 @@ FrameReport DepthFusion::add_frame(const drivers::DepthFrame& frame, int camera_
     }
   }
   const std::size_t before = cloud.size();
+  int outside = 0;
   for (std::size_t s = 0; s < slots; ++s) {
     if (slot_flags_[s] == 0) continue;
+    if (slot_flags_[s] == kOutsideBox) {
+      ++outside;
+      continue;
+    }
     cloud.points_m.push_back(slot_points_[s]);
     cloud.rgb.insert(cloud.rgb.end(), &slot_rgb_[3 * s], &slot_rgb_[3 * s] + 3);
     cloud.has_color.push_back(slot_flags_[s] == 3 ? 1 : 0);
     cloud.camera.push_back(static_cast<std::uint8_t>(camera_index));
   }
   report.points = static_cast<int>(cloud.size() - before);
-  if (report.points == 0) return reject(FrameStatus::kEmpty, "no valid depth pixel");
+  report.outside_box = outside;
+  if (report.points + report.outside_box == 0) return reject(FrameStatus::kEmpty, "no valid depth pixel");
   return report;
 }
 

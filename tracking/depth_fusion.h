@@ -19,6 +19,13 @@ struct FusionOptions {
   int pixel_stride = 2;
   double min_depth_m = 0.2;  // a D415 measures nothing closer; nearer values are artefacts
   double max_depth_m = 4.0;  // beyond the cell
+  // Drop points outside this box (cell frame, m) while fusing, before their colour is looked up
+  // and before they are copied: the segmentation's workspace box, applied where it is cheapest
+  // (most pixels see the floor and the cell, not the sheet). The tracker sets it from
+  // SegmentationOptions; off by default, so fusion on its own keeps every point.
+  bool crop_to_box = false;
+  Eigen::Vector3f box_min_m = Eigen::Vector3f::Constant(-1.0f);
+  Eigen::Vector3f box_max_m = Eigen::Vector3f::Constant(1.0f);
 };
 
 enum class FrameStatus {
@@ -35,6 +42,7 @@ struct FrameReport {
   FrameStatus status = FrameStatus::kOk;
   std::string message;  // why rejected, or a note (colour ignored and why)
   int points = 0;       // points added
+  int outside_box = 0;  // valid points dropped by crop_to_box
   bool color_used = false;
 };
 

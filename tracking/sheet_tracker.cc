@@ -41,7 +41,12 @@ const char* to_string(TrackStatus status) {
 }
 
 SheetTracker::SheetTracker(TrackerConfig config) : config_(std::move(config)) {
-  fusion_.set_options(config_.fusion);
+  // The workspace box is applied while fusing (cheapest there); segmentation then counts it.
+  FusionOptions fusion = config_.fusion;
+  fusion.crop_to_box = true;
+  fusion.box_min_m = config_.segmentation.box_min_m.cast<float>();
+  fusion.box_max_m = config_.segmentation.box_max_m.cast<float>();
+  fusion_.set_options(fusion);
   registration_.set_options(config_.registration);
 }
 
@@ -85,7 +90,9 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
     if (report.status == FrameStatus::kOk) r.cameras_used.push_back(frame.camera);
     r.frames.push_back(std::move(report));
   }
-  r.fused_points = static_cast<int>(fused_.size());
+  int outside_box = 0;
+  for (const FrameReport& report : r.frames) outside_box += report.outside_box;
+  r.fused_points = static_cast<int>(fused_.size()) + outside_box;
   r.times.fusion_ms = ms_since(t);
   if (r.cameras_used.empty()) {
     return finish(TrackStatus::kNoFrames,
@@ -93,6 +100,8 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
   }
 
   sheet_ = segment_sheet(fused_, config_.segmentation, &r.segmentation);
+  r.segmentation.input += outside_box;  // dropped by the fusion's crop, counted here as before
+  r.segmentation.outside_box += outside_box;
   r.sheet_points = static_cast<int>(sheet_.size());
   r.times.segmentation_ms = ms_since(t);
   if (r.sheet_points < config_.min_sheet_points) {

@@ -188,6 +188,23 @@ TEST_CASE("segmentation keeps the dark sheet inside the box", "[tracker][segment
   CHECK(kept_on_sheet == Approx(kept.size()).epsilon(0.005));  // nearly nothing else kept
   CHECK(kept_on_sheet == Approx(sheet_points).epsilon(0.02));  // nearly all the sheet kept
 
+  SECTION("cropping to the box while fusing drops exactly what the box would, and counts it") {
+    DepthFusion cropping;
+    FusionOptions o;
+    o.crop_to_box = true;
+    o.box_min_m = options.box_min_m.cast<float>();
+    o.box_max_m = options.box_max_m.cast<float>();
+    cropping.set_options(o);
+    SensorCloud cropped;
+    const FrameReport report = cropping.add_frame(frame, 0, cropped);
+    REQUIRE(report.status == FrameStatus::kOk);
+    CHECK(report.outside_box == counts.outside_box);
+    CHECK(report.points == counts.input - counts.outside_box);
+    SegmentationCounts c;
+    CHECK(segment_sheet(cropped, options, &c).size() == kept.size());
+    CHECK(c.outside_box == 0);
+  }
+
   SECTION("points without colour follow the policy") {
     SensorCloud uncoloured = cloud;
     std::fill(uncoloured.has_color.begin(), uncoloured.has_color.end(), 0);
