@@ -171,6 +171,15 @@ std::string message_problem(const prepreg_lcm::gripper_status_t& msg) {
                nonnegative_problem("width_m", msg.width_m));
 }
 
+std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
+  if (msg.target.empty()) return "target is empty";
+  static const char* const kFaults[] = {"dead", "frozen", "stale", "drop", "status_silent", "diverge"};
+  for (const char* f : kFaults) {
+    if (msg.fault == f) return "";
+  }
+  return "fault '" + msg.fault + "' is not one of dead, frozen, stale, drop, status_silent, diverge";
+}
+
 std::string message_problem(const lcmt_iiwa_command& msg) {
   return first(count_problem("joint_position", msg.joint_position, msg.num_joints, kMaxIiwaJoints),
                count_problem("joint_torque", msg.joint_torque, msg.num_torques, kMaxIiwaJoints),

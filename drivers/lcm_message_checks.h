@@ -17,6 +17,7 @@
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_fault_t.hpp>
 
 namespace drivers {
 
@@ -32,6 +33,7 @@ std::string message_problem(const prepreg_lcm::cell_state_t& msg);
 std::string message_problem(const prepreg_lcm::grasp_plan_t& msg);
 std::string message_problem(const prepreg_lcm::gripper_command_t& msg);
 std::string message_problem(const prepreg_lcm::gripper_status_t& msg);
+std::string message_problem(const prepreg_lcm::sim_fault_t& msg);
 // iiwa: 0..7 joints (a real arm sends 7; 0 is a valid empty torque-mode position list).
 std::string message_problem(const lcmt_iiwa_command& msg);
 std::string message_problem(const lcmt_iiwa_status& msg);

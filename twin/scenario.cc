@@ -8,6 +8,7 @@
 #include "twin/clamp_json.h"
 #include "twin/json_field.h"
 #include "twin/mesh_io.h"
+#include "twin/sheet_spec.h"
 
 namespace twin {
 namespace {
@@ -15,53 +16,6 @@ namespace {
 std::string resolve(const std::string& base, const std::string& path) {
   const std::filesystem::path p(path);
   return p.is_absolute() || base.empty() ? path : (std::filesystem::path(base) / p).string();
-}
-
-Mat3 rotation_from_degrees(const Vec3& deg) {
-  const Vec3 r = deg * M_PI / 180.0;
-  return (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
-          Eigen::AngleAxisd(r.x(), Vec3::UnitX())).toRotationMatrix();
-}
-
-void read_sheet(const JsonField& f, const std::string& base, Scenario& s) {
-  f.only_keys({"width_m", "height_m", "edge_length_m", "target_triangles", "pattern",
-               "mesh_file", "placement"});
-  if (auto file = f.optional("mesh_file")) {
-    for (const char* k : {"width_m", "height_m", "edge_length_m", "target_triangles"}) {
-      if (f.has(k)) f[k].fail("cannot be combined with mesh_file");
-    }
-    const std::string path = resolve(base, file->string());
-    s.mesh = sheet_mesh_from_flat(read_surface_mesh(path));
-    s.mesh_description = fmt::format("mesh {} ({} triangles)", path, s.mesh.triangle_count());
-  } else {
-    const double width = f["width_m"].positive("m");
-    const double height = f["height_m"].positive("m");
-    double edge = 0.0;
-    if (f.has("edge_length_m") == f.has("target_triangles")) {
-      f.fail_child("edge_length_m", "or 'target_triangles' must be given, exactly one of them");
-    }
-    if (auto e = f.optional("edge_length_m")) edge = e->positive("m");
-    if (auto t = f.optional("target_triangles")) {
-      edge = edge_length_for_triangle_count(width, height, t->positive_integer());
-    }
-    TriangulationPattern pattern = TriangulationPattern::kOffsetRows;
-    if (auto p = f.optional("pattern")) {
-      const std::string name = p->string();
-      if (name == "right_triangles") {
-        pattern = TriangulationPattern::kRightTriangles;
-      } else if (name != "offset_rows") {
-        p->fail("must be \"offset_rows\" (default) or \"right_triangles\"");
-      }
-    }
-    s.mesh = make_rectangular_sheet(width, height, edge, pattern);
-    s.mesh_description = fmt::format("rectangle {} x {} m, edge {:.4f} m, {} triangles", width,
-                                     height, edge, s.mesh.triangle_count());
-  }
-  if (auto p = f.optional("placement")) {
-    p->only_keys({"origin_m", "rotation_deg"});
-    if (auto o = p->optional("origin_m")) s.placement.origin_m = o->vec3("m");
-    if (auto r = p->optional("rotation_deg")) s.placement.rotation = rotation_from_degrees(r->vec3("deg"));
-  }
 }
 
 void read_clamps(const JsonField& f, Scenario& s) {
@@ -148,7 +102,10 @@ Scenario scenario_from_json(const nlohmann::json& j, const std::string& source,
   f.only_keys({"sheet", "material", "material_file", "clamps", "stages", "solver"});
   Scenario s;
   s.source = source;
-  read_sheet(f["sheet"], base_directory, s);
+  SheetSpec sheet = read_sheet_spec(f["sheet"], base_directory);
+  s.mesh = std::move(sheet.mesh);
+  s.mesh_description = std::move(sheet.description);
+  s.placement = sheet.placement;
   if (f.has("material") == f.has("material_file")) {
     f.fail_child("material", "or 'material_file' must be given, exactly one of them");
   }
