@@ -19,7 +19,8 @@
 //    "camera_to_cell": {"translation_m": [...], "rpy_deg": [roll, pitch, yaw]},
 //    "depth_unit_mm": 1.0, "read_timeout_ms": 200, "stale_after_ms": 500,
 //    "frozen_after_frames": 3}                             (all four optional)
-// A pose gives its rotation either as a unit quaternion (w first; |q| within 1e-3 of 1, then
+// A pose gives its rotation (see pose_json.h) as a look-at point "look_at_m" [x, y, z], or
+// as a unit quaternion (w first; |q| within 1e-3 of 1, then
 // normalised) or as roll/pitch/yaw in degrees, R = Rz(yaw) Ry(pitch) Rx(roll). depth_to_color
 // is optional (identity); camera_to_cell is required. Intrinsics sizes must equal their mode's.
 
