@@ -164,7 +164,8 @@ void CellMonitor::fill_devices(CycleRecord& r) const {
     if (why.empty()) {
       ++r.cameras_ok;
     } else {
-      r.cameras_lost.push_back(name + " (" + why + ")");
+      // The configured name (the channel suffix is upper-cased).
+      r.cameras_lost.push_back((c.name.empty() ? name : c.name) + " (" + why + ")");
     }
   }
   for (const auto& [name, t] : arms_seen_) r.arms.push_back({name, 1e-3 * static_cast<double>(now - t)});
