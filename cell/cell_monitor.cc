@@ -60,7 +60,15 @@ void CellMonitor::on_state(const prepreg_lcm::cell_state_t& msg) {
   }
   state_ = msg.state;
   reason_ = msg.reason;
-  if (msg.cycle_id < 0) return;  // start-up: no cycle yet
+  if (msg.cycle_id < 0) {  // start-up: no cycle yet
+    if (msg.state == prepreg_lcm::cell_state_t::STATE_STARTING && (pending_ || last_completed_ >= 0)) {
+      // The cell started again: its cycle ids begin anew.
+      complete();
+      last_completed_ = -1;
+      summary_.start_new_run();
+    }
+    return;
+  }
   CycleRecord* r = record_for(msg.cycle_id);
   if (!r) return;  // a state change published again for a finished cycle
   r->state = msg.state;

@@ -61,6 +61,7 @@ std::string format_state_change(const StateChange& c) {
 std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& c) {
   std::string out = fmt::format("summary: {} cycles ({}..{}), {} missing, {:.2f} cycles/s\n",
                                 s.cycles(), s.first_id(), s.last_id(), s.missing_count(), s.rate_hz());
+  if (s.restarts() > 0) out += fmt::format("  cell restarts: {} (ids above are of the last run)\n", s.restarts());
   const auto gaps = s.missing_ranges();
   if (!gaps.empty()) {
     out += "  missing cycle ids:";

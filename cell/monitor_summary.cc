@@ -14,7 +14,7 @@ std::string cell_state_name(std::int8_t state) {
 }
 
 void MonitorSummary::add_cycle(const CycleRecord& r) {
-  if (ids_.empty()) first_seen_utime_ = r.seen_utime;
+  if (cycles() == 0) first_seen_utime_ = r.seen_utime;
   last_seen_utime_ = r.seen_utime;
   ids_.insert(r.cycle_id);
   last_bus_ = r.bus;
@@ -44,15 +44,22 @@ std::vector<std::pair<std::int64_t, std::int64_t>> MonitorSummary::missing_range
   return gaps;
 }
 
+void MonitorSummary::start_new_run() {
+  prior_cycles_ += static_cast<int>(ids_.size());
+  prior_missing_ = missing_count();  // before ids_ is cleared: includes this run's gaps
+  ids_.clear();
+  ++restarts_;
+}
+
 std::int64_t MonitorSummary::missing_count() const {
-  std::int64_t n = 0;
+  std::int64_t n = prior_missing_;
   for (const auto& [a, b] : missing_ranges()) n += b - a + 1;
   return n;
 }
 
 double MonitorSummary::rate_hz() const {
-  if (ids_.size() < 2 || last_seen_utime_ <= first_seen_utime_) return 0.0;
-  return (static_cast<double>(ids_.size()) - 1.0) * 1e6 /
+  if (cycles() < 2 || last_seen_utime_ <= first_seen_utime_) return 0.0;
+  return (static_cast<double>(cycles()) - 1.0) * 1e6 /
          static_cast<double>(last_seen_utime_ - first_seen_utime_);
 }
 

@@ -26,10 +26,14 @@ class MonitorSummary {
   void add_cycle(const CycleRecord& record);
   void add_state_change(const StateChange& change) { state_changes_.push_back(change); }
   void count_late_message() { ++late_messages_; }
+  // The cell started again (cycle ids restart at 0): the ids seen so far are closed as a run.
+  void start_new_run();
 
-  int cycles() const { return static_cast<int>(ids_.size()); }
+  int cycles() const { return prior_cycles_ + static_cast<int>(ids_.size()); }
+  int restarts() const { return restarts_; }
   std::int64_t first_id() const { return ids_.empty() ? -1 : *ids_.begin(); }
   std::int64_t last_id() const { return ids_.empty() ? -1 : *ids_.rbegin(); }
+  // first_id, last_id and missing_ranges are those of the current run; missing_count is the total.
   // Ids between the first and last seen that were never seen, as [first, last] ranges.
   std::vector<std::pair<std::int64_t, std::int64_t>> missing_ranges() const;
   std::int64_t missing_count() const;
@@ -48,7 +52,9 @@ class MonitorSummary {
  private:
   static Percentiles percentiles(std::vector<double> values);
 
-  std::set<std::int64_t> ids_;
+  std::set<std::int64_t> ids_;  // current run
+  int prior_cycles_ = 0, restarts_ = 0;
+  std::int64_t prior_missing_ = 0;
   std::int64_t first_seen_utime_ = 0, last_seen_utime_ = 0;
   std::vector<double> means_m_, scores_m_;
   int recomputed_ = 0, mismatches_ = 0;

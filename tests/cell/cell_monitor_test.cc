@@ -50,7 +50,7 @@ struct Harness {
 
 }  // namespace
 
-TEST_CASE("monitor: one record per cycle with the published and recomputed error", "[monitor]") {
+TEST_CASE("one record per cycle with the published and recomputed error", "[monitor]") {
   Harness h;
   std::mt19937 rng(7);
   std::vector<testing_support::CycleMessages> sent;
@@ -95,7 +95,7 @@ TEST_CASE("monitor: one record per cycle with the published and recomputed error
   CHECK(s.mismatches() == 0);
 }
 
-TEST_CASE("monitor: a lost camera is named, state changes are reported", "[monitor]") {
+TEST_CASE("a lost camera is named, state changes are reported", "[monitor]") {
   Harness h;
   std::mt19937 rng(8);
   h.cycle(0, rng);
@@ -124,7 +124,7 @@ TEST_CASE("monitor: a lost camera is named, state changes are reported", "[monit
   CHECK(h.records.back().cameras_lost == std::vector<std::string>{"cam_right (silent)"});
 }
 
-TEST_CASE("monitor: missing cycles, a lost CELL_STATE, late messages, percentiles", "[monitor]") {
+TEST_CASE("missing cycles, a lost CELL_STATE, late messages, percentiles", "[monitor]") {
   Harness h;
   std::mt19937 rng(9);
   std::vector<float> means;
@@ -159,7 +159,7 @@ TEST_CASE("monitor: missing cycles, a lost CELL_STATE, late messages, percentile
   CHECK_THAT(text, Catch::Contains("missing cycle ids: 2-3"));
 }
 
-TEST_CASE("monitor: malformed messages are dropped, counted and shown", "[monitor]") {
+TEST_CASE("malformed messages are dropped, counted and shown", "[monitor]") {
   Harness h;
   std::mt19937 rng(10);
   const std::uint8_t garbage[] = {1, 2, 3, 4, 5, 6, 7, 8, 9};
@@ -181,7 +181,7 @@ TEST_CASE("monitor: malformed messages are dropped, counted and shown", "[monito
              Catch::Contains("dropped 1 undecodable, 1 rejected"));
 }
 
-TEST_CASE("monitor: a published error that disagrees with the sheets is a mismatch", "[monitor]") {
+TEST_CASE("a published error that disagrees with the sheets is a mismatch", "[monitor]") {
   Harness h;
   std::mt19937 rng(11);
   h.cycle(0, rng);
@@ -197,7 +197,7 @@ TEST_CASE("monitor: a published error that disagrees with the sheets is a mismat
   CHECK(s.worst_mismatch_m() == Approx(0.002).margin(1e-6));
 }
 
-TEST_CASE("monitor: the fake world's true sheet is compared with twin and tracker", "[monitor]") {
+TEST_CASE("the fake world's true sheet is compared with twin and tracker", "[monitor]") {
   Harness h;
   std::mt19937 rng(12);
   auto c = make_cycle(0, h.clock_us, rng);
@@ -215,4 +215,27 @@ TEST_CASE("monitor: the fake world's true sheet is compared with twin and tracke
   CHECK(*r.tracked_truth_mean_m > 0.002);
   CHECK(*r.tracked_truth_mean_m <= r.error->mean_m + 1e-6);
   CHECK_THAT(cell::format_cycle(r), Catch::Contains("truth twin 0.00 tracked"));
+}
+
+TEST_CASE("a cell restart starts a new run of cycle ids", "[monitor]") {
+  Harness h;
+  std::mt19937 rng(13);
+  for (int id : {0, 1, 3}) h.cycle(id, rng);
+  prepreg_lcm::cell_state_t starting{};
+  starting.utime = h.clock_us;
+  starting.cycle_id = -1;
+  starting.state = prepreg_lcm::cell_state_t::STATE_STARTING;
+  starting.reason = "start-up";
+  REQUIRE(h.bus.publish(std::string(ch::kCellState), starting));
+  h.dispatch();
+  for (int id : {0, 1}) h.cycle(id, rng);  // without the restart these would be "late"
+  const auto& s = h.monitor.summary();
+  CHECK(h.records.size() == 5);
+  CHECK(s.cycles() == 5);
+  CHECK(s.restarts() == 1);
+  CHECK(s.late_messages() == 0);
+  CHECK(s.missing_count() == 1);  // cycle 2 of the first run
+  CHECK(s.first_id() == 0);
+  CHECK(s.last_id() == 1);
+  CHECK_THAT(cell::format_summary(s, h.bus.counters()), Catch::Contains("cell restarts: 1"));
 }
