@@ -23,8 +23,8 @@ CellMonitor::CellMonitor(drivers::LcmBus& bus, MonitorOptions options, MonitorSi
                          Clock clock)
     : bus_(bus), options_(options), sinks_(std::move(sinks)), clock_(std::move(clock)) {
   auto& s = subscriptions_;
-  s.push_back(bus_.subscribe<prepreg_lcm::cell_state_t>(
-      std::string(ch::kCellState), [this](const auto& m) { on_state(m); }));
+  s.push_back(bus_.subscribe<prepreg_lcm::cell_state_t>(std::string(ch::kCellState),
+                                                        [this](const auto& m) { on_state(m); }));
   s.push_back(bus_.subscribe<prepreg_lcm::prediction_error_t>(
       std::string(ch::kPredictionError), [this](const auto& m) { on_error(m); }));
   const std::string sheets = std::string(ch::kSheetObserved) + "|" +
@@ -61,7 +61,8 @@ void CellMonitor::on_state(const prepreg_lcm::cell_state_t& msg) {
   state_ = msg.state;
   reason_ = msg.reason;
   if (msg.cycle_id < 0) {  // start-up: no cycle yet
-    if (msg.state == prepreg_lcm::cell_state_t::STATE_STARTING && (pending_ || last_completed_ >= 0)) {
+    if (msg.state == prepreg_lcm::cell_state_t::STATE_STARTING &&
+        (pending_ || last_completed_ >= 0)) {
       // The cell started again: its cycle ids begin anew.
       complete();
       last_completed_ = -1;
@@ -148,8 +149,10 @@ void CellMonitor::compare_with_truth(CycleRecord& r) {
     truth_index_->build(sheet_points(*truth_, false), 1);
     truth_index_stale_ = false;
   }
-  if (predicted_) r.twin_truth_mean_m = mean_nearest_distance_m(sheet_points(*predicted_, false), *truth_index_);
-  if (observed_) r.tracked_truth_mean_m = mean_nearest_distance_m(sheet_points(*observed_, true), *truth_index_);
+  if (predicted_)
+    r.twin_truth_mean_m = mean_nearest_distance_m(sheet_points(*predicted_, false), *truth_index_);
+  if (observed_)
+    r.tracked_truth_mean_m = mean_nearest_distance_m(sheet_points(*observed_, true), *truth_index_);
 }
 
 void CellMonitor::fill_devices(CycleRecord& r) const {
@@ -161,8 +164,10 @@ void CellMonitor::fill_devices(CycleRecord& r) const {
     std::string why;
     if (age_ms > options_.camera_silent_ms) {
       why = "silent";
-    } else if (c.state != camera_status_t::STATE_ACTIVE && c.state != camera_status_t::STATE_DEGRADED) {
-      static const char* const kStates[] = {"UNCONFIGURED", "CONFIGURED", "ACTIVE", "DEGRADED", "LOST"};
+    } else if (c.state != camera_status_t::STATE_ACTIVE &&
+               c.state != camera_status_t::STATE_DEGRADED) {
+      static const char* const kStates[] = {"UNCONFIGURED", "CONFIGURED", "ACTIVE", "DEGRADED",
+                                            "LOST"};
       why = c.state >= 0 && c.state <= 4 ? kStates[c.state] : "state " + std::to_string(c.state);
     } else if (c.stale) {
       why = "stale";
@@ -176,8 +181,10 @@ void CellMonitor::fill_devices(CycleRecord& r) const {
       r.cameras_lost.push_back((c.name.empty() ? name : c.name) + " (" + why + ")");
     }
   }
-  for (const auto& [name, t] : arms_seen_) r.arms.push_back({name, 1e-3 * static_cast<double>(now - t)});
-  for (const auto& [name, t] : grippers_seen_) r.grippers.push_back({name, 1e-3 * static_cast<double>(now - t)});
+  for (const auto& [name, t] : arms_seen_)
+    r.arms.push_back({name, 1e-3 * static_cast<double>(now - t)});
+  for (const auto& [name, t] : grippers_seen_)
+    r.grippers.push_back({name, 1e-3 * static_cast<double>(now - t)});
 }
 
 }  // namespace cell

@@ -12,18 +12,17 @@
 
 #include <cstdint>
 #include <functional>
+#include <lcmt_iiwa_status.hpp>
 #include <map>
 #include <memory>
 #include <optional>
-#include <string>
-#include <vector>
-
-#include <lcmt_iiwa_status.hpp>
 #include <prepreg_lcm/camera_status_t.hpp>
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <string>
+#include <vector>
 
 #include "cell/monitor_record.h"
 #include "cell/monitor_summary.h"

@@ -2,15 +2,14 @@
 #include "cell/log_replay.h"
 
 #include <chrono>
+#include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 #include <thread>
 
-#include <lcm/lcm-cpp.hpp>
-
 namespace cell {
 
-ReplayStats replay_log(const std::string& log_path, drivers::LcmBus& bus,
-                       std::int64_t& clock_utime, const ReplayOptions& options) {
+ReplayStats replay_log(const std::string& log_path, drivers::LcmBus& bus, std::int64_t& clock_utime,
+                       const ReplayOptions& options) {
   lcm::LogFile log(log_path, "r");
   if (!log.good()) throw std::runtime_error("LCM log " + log_path + ": cannot open for reading");
   ReplayStats stats;

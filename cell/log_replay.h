@@ -26,7 +26,7 @@ struct ReplayOptions {
 };
 
 // Throws std::runtime_error naming the file when it cannot be opened or is not an LCM log.
-ReplayStats replay_log(const std::string& log_path, drivers::LcmBus& bus,
-                       std::int64_t& clock_utime, const ReplayOptions& options);
+ReplayStats replay_log(const std::string& log_path, drivers::LcmBus& bus, std::int64_t& clock_utime,
+                       const ReplayOptions& options);
 
 }  // namespace cell

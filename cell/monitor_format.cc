@@ -1,9 +1,10 @@
 // Monitor text.
 #include "cell/monitor_format.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
+#include <iterator>
 
 namespace cell {
 
@@ -22,6 +23,13 @@ std::string drops(const drivers::BusCounters& c) {
 }
 
 }  // namespace
+
+std::string cell_state_name(std::int8_t state) {
+  static const char* const kNames[] = {"STARTING",  "READY",  "RUNNING", "DEGRADED",
+                                       "SAFE_HOLD", "FAILED", "STOPPED"};
+  if (state >= 0 && state < static_cast<int>(std::size(kNames))) return kNames[state];
+  return "STATE_" + std::to_string(state);
+}
 
 std::string format_cycle(const CycleRecord& r) {
   std::string s = fmt::format("cycle {} {}", r.cycle_id, r.state ? cell_state_name(*r.state) : "?");
@@ -59,9 +67,11 @@ std::string format_state_change(const StateChange& c) {
 }
 
 std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& c) {
-  std::string out = fmt::format("summary: {} cycles ({}..{}), {} missing, {:.2f} cycles/s\n",
-                                s.cycles(), s.first_id(), s.last_id(), s.missing_count(), s.rate_hz());
-  if (s.restarts() > 0) out += fmt::format("  cell restarts: {} (ids above are of the last run)\n", s.restarts());
+  std::string out =
+      fmt::format("summary: {} cycles ({}..{}), {} missing, {:.2f} cycles/s\n", s.cycles(),
+                  s.first_id(), s.last_id(), s.missing_count(), s.rate_hz());
+  if (s.restarts() > 0)
+    out += fmt::format("  cell restarts: {} (ids above are of the last run)\n", s.restarts());
   const auto gaps = s.missing_ranges();
   if (!gaps.empty()) {
     out += "  missing cycle ids:";
@@ -81,14 +91,16 @@ std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& 
                        1e3 * sc.p50, 1e3 * sc.p90, 1e3 * sc.p99, 1e3 * sc.max);
   }
   if (s.recomputed() > 0) {
-    out += fmt::format("  recomputed error: {} cycles, {} disagree (worst {:.4f} mm)\n", s.recomputed(),
-                       s.mismatches(), 1e3 * s.worst_mismatch_m());
+    out += fmt::format("  recomputed error: {} cycles, {} disagree (worst {:.4f} mm)\n",
+                       s.recomputed(), s.mismatches(), 1e3 * s.worst_mismatch_m());
   }
-  out += fmt::format("  messages: {} delivered, dropped {} undecodable, {} rejected, {} callback errors; "
-                     "{} for completed cycles\n",
-                     c.delivered, c.decode_failures, c.rejected, c.callback_errors, s.late_messages());
+  out += fmt::format(
+      "  messages: {} delivered, dropped {} undecodable, {} rejected, {} callback errors; "
+      "{} for completed cycles\n",
+      c.delivered, c.decode_failures, c.rejected, c.callback_errors, s.late_messages());
   out += fmt::format("  state changes: {}\n", s.state_changes().size());
-  for (const StateChange& change : s.state_changes()) out += "    " + format_state_change(change) + "\n";
+  for (const StateChange& change : s.state_changes())
+    out += "    " + format_state_change(change) + "\n";
   return out;
 }
 

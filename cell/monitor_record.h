@@ -29,7 +29,7 @@ struct DeviceAge {
 
 struct CycleRecord {
   std::int64_t cycle_id = -1;
-  std::int64_t seen_utime = 0;  // monitor clock (us) when the record was completed
+  std::int64_t seen_utime = 0;       // monitor clock (us) when the record was completed
   std::optional<std::int8_t> state;  // cell_state_t::STATE_*
   std::string reason;
   std::optional<ErrorFigures> error;       // as published on PREDICTION_ERROR
@@ -57,8 +57,5 @@ struct StateChange {
   std::int8_t to = 0;
   std::string reason;
 };
-
-// "RUNNING", "SAFE_HOLD", ... ("STATE_<n>" for an unknown value).
-std::string cell_state_name(std::int8_t state);
 
 }  // namespace cell

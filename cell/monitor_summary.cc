@@ -6,13 +6,6 @@
 
 namespace cell {
 
-std::string cell_state_name(std::int8_t state) {
-  static const char* const kNames[] = {"STARTING",  "READY",  "RUNNING", "DEGRADED",
-                                       "SAFE_HOLD", "FAILED", "STOPPED"};
-  if (state >= 0 && state < static_cast<int>(std::size(kNames))) return kNames[state];
-  return "STATE_" + std::to_string(state);
-}
-
 void MonitorSummary::add_cycle(const CycleRecord& r) {
   if (cycles() == 0) first_seen_utime_ = r.seen_utime;
   last_seen_utime_ = r.seen_utime;

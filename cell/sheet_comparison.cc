@@ -20,8 +20,8 @@ std::vector<tracking::Vec3> vertices(const prepreg_lcm::sheet_state_t& s) {
 
 }  // namespace
 
-std::optional<ErrorFigures> recompute_prediction_error(const prepreg_lcm::sheet_state_t& observed,
-                                                       const prepreg_lcm::sheet_state_t& predicted) {
+std::optional<ErrorFigures> recompute_prediction_error(
+    const prepreg_lcm::sheet_state_t& observed, const prepreg_lcm::sheet_state_t& predicted) {
   if (observed.num_vertices != predicted.num_vertices || observed.num_vertices == 0) {
     return std::nullopt;
   }

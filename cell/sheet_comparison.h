@@ -3,12 +3,10 @@
 // recomputed from an observed and a predicted sheet_state_t (what PREDICTION_ERROR must say),
 // and the distance of a sheet to the fake world's true sheet.
 
-#include <optional>
-#include <vector>
-
 #include <Eigen/Core>
-
+#include <optional>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <vector>
 
 #include "cell/monitor_record.h"
 

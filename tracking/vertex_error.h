@@ -10,7 +10,7 @@
 namespace tracking {
 
 struct VertexErrorStats {
-  int compared = 0;    // observed vertices with a finite error
+  int compared = 0;  // observed vertices with a finite error
   double mean_m = 0.0;
   double max_m = 0.0;
   double score_m = 0.0;  // mean + 0.5 max, as in PredictionError

@@ -1,12 +1,12 @@
 // cell_monitor: a terminal view of the running cell, one line per cycle (state, prediction error,
 // coverage, latency, cameras, device status ages, dropped messages) and a summary at exit.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "cell/cell_monitor.h"
 #include "cell/monitor_format.h"

@@ -1,18 +1,19 @@
 // replay_cell_log: reads an lcm-logger log of a cell run and prints it through the monitor, with
 // the prediction error recomputed from the logged SHEET_OBSERVED and SHEET_PREDICTED beside the
 // logged PREDICTION_ERROR. Exit status: 0 all agree, 1 bad input, 2 some cycles disagree.
-#include <cstdio>
+#include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
+#include <cstdio>
 
 #include "cell/cell_monitor.h"
 #include "cell/log_replay.h"
 #include "cell/monitor_format.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Replay an lcm-logger log of a cell run through the monitor, checking the logged "
-               "prediction error against the tracker's metric."};
+  CLI::App app{
+      "Replay an lcm-logger log of a cell run through the monitor, checking the logged "
+      "prediction error against the tracker's metric."};
   std::string log_path, republish_url;
   int every = 1;
   double speed = 1.0;
@@ -44,9 +45,10 @@ int main(int argc, char** argv) {
     options.speed = speed;
     const cell::ReplayStats stats = cell::replay_log(log_path, bus, clock_utime, options);
     monitor.flush();
-    fmt::print("replayed {} events over {:.2f} s of log{}\n", stats.events,
-               1e-6 * static_cast<double>(stats.last_utime - stats.first_utime),
-               republish ? fmt::format(", {} republished on {}", stats.republished, republish_url) : "");
+    fmt::print(
+        "replayed {} events over {:.2f} s of log{}\n", stats.events,
+        1e-6 * static_cast<double>(stats.last_utime - stats.first_utime),
+        republish ? fmt::format(", {} republished on {}", stats.republished, republish_url) : "");
     fmt::print("{}", cell::format_summary(monitor.summary(), bus.counters()));
     return monitor.summary().mismatches() > 0 ? 2 : 0;
   } catch (const std::exception& e) {

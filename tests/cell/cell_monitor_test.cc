@@ -1,13 +1,13 @@
 // The terminal monitor's logic on memq://: per-cycle records from the cell's messages, the
 // printed line, lost cameras and state changes, missing cycles, dropped malformed messages, a
 // published error that disagrees with the recomputed one, and the fake world's truth.
-#include <catch2/catch.hpp>
+#include "cell/cell_monitor.h"
 
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <random>
 #include <vector>
 
-#include "cell/cell_monitor.h"
 #include "cell/monitor_format.h"
 #include "drivers/lcm_channels.h"
 #include "tests/cell/cycle_messages.h"
@@ -29,17 +29,19 @@ struct Harness {
   std::int64_t clock_us = kStart_us;
   std::vector<CycleRecord> records;
   std::vector<cell::StateChange> changes;
-  CellMonitor monitor{bus, cell::MonitorOptions{},
-                      cell::MonitorSinks{[this](const CycleRecord& r) { records.push_back(r); },
-                                         [this](const cell::StateChange& c) { changes.push_back(c); }},
-                      [this] { return clock_us; }};
+  CellMonitor monitor{
+      bus, cell::MonitorOptions{},
+      cell::MonitorSinks{[this](const CycleRecord& r) { records.push_back(r); },
+                         [this](const cell::StateChange& c) { changes.push_back(c); }},
+      [this] { return clock_us; }};
 
   void dispatch() {
     while (bus.handle_for(std::chrono::milliseconds(0)).messages > 0) {
     }
   }
   // Publishes cycle `id` at its time and dispatches it.
-  testing_support::CycleMessages cycle(std::int64_t id, std::mt19937& rng, const std::string& lost = "") {
+  testing_support::CycleMessages cycle(std::int64_t id, std::mt19937& rng,
+                                       const std::string& lost = "") {
     clock_us = kStart_us + id * kPeriod_us;
     auto c = make_cycle(id, clock_us, rng, 8, lost);
     REQUIRE(publish_cycle(bus, c));

@@ -80,10 +80,10 @@ CycleMessages make_cycle(std::int64_t cycle_id, std::int64_t utime, std::mt19937
 
   c.arm.utime = utime;
   c.arm.num_joints = 7;
-  for (auto* v : {&c.arm.joint_position_measured, &c.arm.joint_velocity_estimated,
-                  &c.arm.joint_position_commanded, &c.arm.joint_position_ipo,
-                  &c.arm.joint_torque_measured, &c.arm.joint_torque_commanded,
-                  &c.arm.joint_torque_external}) {
+  for (auto* v :
+       {&c.arm.joint_position_measured, &c.arm.joint_velocity_estimated,
+        &c.arm.joint_position_commanded, &c.arm.joint_position_ipo, &c.arm.joint_torque_measured,
+        &c.arm.joint_torque_commanded, &c.arm.joint_torque_external}) {
     v->assign(7, 0.1);
   }
 

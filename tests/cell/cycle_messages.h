@@ -5,16 +5,15 @@
 // Used by the monitor tests on memq:// and by the cycle publisher of the udpm test.
 
 #include <cstdint>
-#include <random>
-#include <string>
-#include <utility>
-#include <vector>
-
 #include <lcmt_iiwa_status.hpp>
 #include <prepreg_lcm/camera_status_t.hpp>
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "drivers/lcm_bus.h"
 
@@ -29,8 +28,8 @@ struct CycleMessages {
 };
 
 // grid x grid vertices; `lost_camera` (may be "") is reported LOST. frames_utime = utime - 40 ms.
-CycleMessages make_cycle(std::int64_t cycle_id, std::int64_t utime, std::mt19937& rng,
-                         int grid = 8, const std::string& lost_camera = "");
+CycleMessages make_cycle(std::int64_t cycle_id, std::int64_t utime, std::mt19937& rng, int grid = 8,
+                         const std::string& lost_camera = "");
 
 struct EncodedMessage {
   std::string channel;

@@ -1,12 +1,12 @@
 // monitor_cycle_publisher: publishes made-up cell cycles (tests/cell/cycle_messages.h) on an LCM
-// URL at a fixed rate, plus one undecodable message first (unless --no-malformed), for the udpm monitor test and for looking
-// at our types in lcm-spy. Cycle 3 reports cam_right lost.
+// URL at a fixed rate, plus one undecodable message first (unless --no-malformed), for the udpm
+// monitor test and for looking at our types in lcm-spy. Cycle 3 reports cam_right lost.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <random>
 #include <thread>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "drivers/lcm_channels.h"
 #include "tests/cell/cycle_messages.h"

@@ -2,19 +2,19 @@
 // replays into the monitor with the logged times, and the error recomputed from the logged
 // sheets reproduces the logged PREDICTION_ERROR; a log whose error is wrong is caught; the
 // replay_cell_log tool does the same end to end.
-#include <catch2/catch.hpp>
+#include "cell/log_replay.h"
 
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <sys/wait.h>
-
-#include <lcm/lcm-cpp.hpp>
 
 #include "cell/cell_monitor.h"
-#include "cell/log_replay.h"
 #include "tests/cell/cycle_messages.h"
 #include "tests/support/temp_dir.h"
 
@@ -103,7 +103,8 @@ TEST_CASE("replay: a logged run reproduces the logged errors at the logged times
   // RUNNING, DEGRADED at cycle 4 (cam_left lost), RUNNING again at 5.
   REQUIRE(r.summary.state_changes().size() == 3);
   CHECK(r.summary.state_changes()[1].cycle_id == 4);
-  CHECK(r.summary.state_changes()[1].seen_utime == kStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
+  CHECK(r.summary.state_changes()[1].seen_utime ==
+        kStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
 }
 
 TEST_CASE("replay: a log whose error disagrees with its sheets is caught", "[monitor]") {
@@ -128,7 +129,8 @@ TEST_CASE("replay: a file that is not an LCM log is refused with its name", "[mo
                     Catch::Contains("cannot open"));
 }
 
-TEST_CASE("replay: the replay_cell_log tool prints the cycles and exits by agreement", "[monitor]") {
+TEST_CASE("replay: the replay_cell_log tool prints the cycles and exits by agreement",
+          "[monitor]") {
   testing_support::TempDir dir("replay_tool");
   const std::string good = (dir / "good.lcmlog").string(), bad = (dir / "bad.lcmlog").string();
   write_log(good, 6);
