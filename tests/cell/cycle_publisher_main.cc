@@ -17,12 +17,14 @@ int main(int argc, char** argv) {
   int cycles = 20;
   double hz = 20.0, delay_s = 0.0;
   bool no_malformed = false;
+  int grid = 12;
   app.add_option("--lcm", url, "LCM URL");
   app.add_option("--cycles", cycles, "cycles to publish (0: until killed)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--hz", hz, "cycle rate")->check(CLI::PositiveNumber);
   app.add_option("--delay-s", delay_s, "wait before the first cycle (let listeners start)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--grid", grid, "sheet vertices per side")->check(CLI::Range(2, 1000));
   app.add_flag("--no-malformed", no_malformed,
                "skip the undecodable message (lcm-spy types a channel by its first message)");
   CLI11_PARSE(app, argc, argv);
@@ -37,7 +39,7 @@ int main(int argc, char** argv) {
     const auto period = std::chrono::duration<double>(1.0 / hz);
     auto next = std::chrono::steady_clock::now();
     for (int id = 0; cycles == 0 || id < cycles; ++id) {
-      const auto c = testing_support::make_cycle(id, drivers::utime_now(), rng, 12,
+      const auto c = testing_support::make_cycle(id, drivers::utime_now(), rng, grid,
                                                  id == 3 ? "cam_right" : "");
       if (!testing_support::publish_cycle(bus, c)) {
         fmt::print(stderr, "publish failed: {}\n", bus.last_problem());
