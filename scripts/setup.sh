@@ -16,6 +16,8 @@ PACKAGES=(
   liblcm-dev liblcm-bin libglib2.0-dev         # LCM bus and lcm-gen (lcm.pc needs glib)
   catch2                                       # tests
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  default-jdk-headless liblcm-java libjchart2d-java  # lcm-spy with our types (optional jar)
+  xvfb                                         # lcm-spy on a headless machine (scripts/lcm_spy.sh)
 )
 
 if [[ "${PREPREG_SKIP_APT:-0}" != 1 ]]; then

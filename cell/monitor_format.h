@@ -1,0 +1,22 @@
+#pragma once
+// Text of the terminal monitor: one line per cycle, one per state change, and the summary.
+// Lengths in mm, times in ms, so a line reads at a glance.
+
+#include <string>
+
+#include "cell/monitor_record.h"
+#include "cell/monitor_summary.h"
+
+namespace cell {
+
+// "RUNNING", "SAFE_HOLD", ... ("STATE_<n>" for an unknown value).
+std::string cell_state_name(std::int8_t state);
+
+// e.g. "cycle 42 RUNNING err mean 3.10 max 8.20 score 7.20 mm (n 310) re 3.10/8.20 cov 0.86
+// (310/360) lat 41.0 ms cams 3/3 arms LEFT 12 RIGHT 9 ms grippers G1 15 ms drops 0/0/0"
+std::string format_cycle(const CycleRecord& record);
+std::string format_state_change(const StateChange& change);
+// Multi-line, ends with a newline.
+std::string format_summary(const MonitorSummary& summary, const drivers::BusCounters& bus);
+
+}  // namespace cell

@@ -1,0 +1,151 @@
+// Replay of lcm-logger logs: a log written here with LCM's LogFile API (as lcm-logger writes it)
+// replays into the monitor with the logged times, and the error recomputed from the logged
+// sheets reproduces the logged PREDICTION_ERROR; a log whose error is wrong is caught; the
+// replay_cell_log tool does the same end to end.
+#include "cell/log_replay.h"
+
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "cell/cell_monitor.h"
+#include "tests/cell/cycle_messages.h"
+#include "tests/support/temp_dir.h"
+
+namespace {
+
+constexpr std::int64_t kStart_us = 1'800'000'000'000'000;
+
+// Writes `cycles` cycles at 20 Hz, the messages of a cycle 1 ms apart; cycle `wrong` (if >= 0)
+// logs a max error 3 mm larger than its sheets give.
+void write_log(const std::string& path, int cycles, int wrong = -1) {
+  lcm::LogFile log(path, "w");
+  REQUIRE(log.good());
+  std::mt19937 rng(21);
+  std::int64_t event = 0;
+  for (int id = 0; id < cycles; ++id) {
+    const std::int64_t t = kStart_us + id * 50'000;
+    auto c = testing_support::make_cycle(id, t, rng, 10, id == 4 ? "cam_left" : "");
+    if (id == wrong) {  // consistent in itself (score is checked on receipt), wrong for the sheets
+      c.error.max_m += 0.003f;
+      c.error.score_m += 0.0015f;
+    }
+    std::int64_t offset = 0;
+    for (auto& m : testing_support::encode_cycle(c)) {
+      lcm::LogEvent e;
+      e.eventnum = event++;
+      e.timestamp = t + 1000 * offset++;
+      e.channel = m.channel;
+      e.datalen = static_cast<int32_t>(m.bytes.size());
+      e.data = m.bytes.data();
+      REQUIRE(log.writeEvent(&e) == 0);
+    }
+  }
+}
+
+struct Replayed {
+  std::vector<cell::CycleRecord> records;
+  cell::MonitorSummary summary;
+  cell::ReplayStats stats;
+};
+
+Replayed replay(const std::string& path) {
+  drivers::LcmBus bus("memq://");
+  std::int64_t clock_us = 0;
+  Replayed out;
+  cell::CellMonitor monitor(bus, cell::MonitorOptions{},
+                            {[&](const cell::CycleRecord& r) { out.records.push_back(r); }, {}},
+                            [&] { return clock_us; });
+  out.stats = cell::replay_log(path, bus, clock_us, cell::ReplayOptions{});
+  monitor.flush();
+  out.summary = monitor.summary();
+  return out;
+}
+
+int run(const std::string& command, std::string& output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(pipe);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("replay: a logged run reproduces the logged errors at the logged times", "[monitor]") {
+  testing_support::TempDir dir("replay_log");
+  const std::string path = (dir / "run.lcmlog").string();
+  write_log(path, 12);
+  const Replayed r = replay(path);
+  CHECK(r.stats.events == 12 * 9);  // 9 messages per cycle
+  CHECK(r.stats.last_utime - r.stats.first_utime == 11 * 50'000 + 8'000);
+  REQUIRE(r.records.size() == 12);
+  for (const auto& rec : r.records) {
+    REQUIRE(rec.error);
+    REQUIRE(rec.recomputed);
+    CHECK(rec.recomputed->compared == rec.error->compared);
+    CHECK(rec.recomputed->mean_m == Approx(rec.error->mean_m).margin(1e-7));
+    CHECK(rec.recomputed->max_m == Approx(rec.error->max_m).margin(1e-7));
+    // IIWA_STATUS_LEFT was logged 2 ms before CELL_STATE, which completes the record.
+    REQUIRE(rec.arms.size() == 2);
+    CHECK(rec.arms[0].age_ms == Approx(2.0));
+  }
+  CHECK(r.records[4].cameras_lost == std::vector<std::string>{"cam_left (LOST)"});
+  CHECK(r.summary.mismatches() == 0);
+  CHECK(r.summary.rate_hz() == Approx(20.0));
+  // RUNNING, DEGRADED at cycle 4 (cam_left lost), RUNNING again at 5.
+  REQUIRE(r.summary.state_changes().size() == 3);
+  CHECK(r.summary.state_changes()[1].cycle_id == 4);
+  CHECK(r.summary.state_changes()[1].seen_utime ==
+        kStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
+}
+
+TEST_CASE("replay: a log whose error disagrees with its sheets is caught", "[monitor]") {
+  testing_support::TempDir dir("replay_wrong");
+  const std::string path = (dir / "wrong.lcmlog").string();
+  write_log(path, 8, 5);
+  const Replayed r = replay(path);
+  CHECK(r.summary.recomputed() == 8);
+  CHECK(r.summary.mismatches() == 1);
+  CHECK(r.summary.worst_mismatch_m() == Approx(0.003).margin(1e-6));
+}
+
+TEST_CASE("replay: a file that is not an LCM log is refused with its name", "[monitor]") {
+  testing_support::TempDir dir("replay_bad");
+  const std::string path = (dir / "notes.txt").string();
+  std::ofstream(path) << "not an LCM log\n";
+  drivers::LcmBus bus("memq://");
+  std::int64_t clock_us = 0;
+  CHECK_THROWS_WITH(cell::replay_log(path, bus, clock_us, {}),
+                    Catch::Contains(path) && Catch::Contains("no events"));
+  CHECK_THROWS_WITH(cell::replay_log(path + ".missing", bus, clock_us, {}),
+                    Catch::Contains("cannot open"));
+}
+
+TEST_CASE("replay: the replay_cell_log tool prints the cycles and exits by agreement",
+          "[monitor]") {
+  testing_support::TempDir dir("replay_tool");
+  const std::string good = (dir / "good.lcmlog").string(), bad = (dir / "bad.lcmlog").string();
+  write_log(good, 6);
+  write_log(bad, 6, 2);
+  std::string out;
+  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + good + " --every 2", out) == 0);
+  CHECK_THAT(out, Catch::Contains("cycle 0 RUNNING err mean"));
+  CHECK_THAT(out, Catch::Contains("cycle 4 DEGRADED"));
+  CHECK_THAT(out, !Catch::Contains("cycle 1 "));  // --every 2
+  CHECK_THAT(out, Catch::Contains("summary: 6 cycles (0..5), 0 missing"));
+  CHECK_THAT(out, Catch::Contains("recomputed error: 6 cycles, 0 disagree"));
+  out.clear();
+  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + bad, out) == 2);
+  CHECK_THAT(out, Catch::Contains("recomputed error: 6 cycles, 1 disagree"));
+  out.clear();
+  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + good + ".missing", out) == 1);
+  CHECK_THAT(out, Catch::Contains("cannot open"));
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The monitor as a real process on real LCM (udpm, ttl=0) inside scripts/with_loopback_lcm.sh:
+# a publisher process sends 20 cycles (and one undecodable message), cell_monitor listens for a
+# few seconds and must report all 20 cycles, none missing, and the dropped message.
+#   udpm_monitor_test.sh PUBLISHER CELL_MONITOR   (run inside with_loopback_lcm.sh)
+set -euo pipefail
+publisher="$1"
+monitor="$2"
+url='udpm://239.255.76.67:7667?ttl=0'
+out="$(mktemp)"
+trap 'rm -f "$out"' EXIT
+"$monitor" --lcm "$url" --max-seconds 4 --summary >"$out" 2>&1 &
+monitor_pid=$!
+"$publisher" --lcm "$url" --cycles 20 --hz 20 --delay-s 0.5
+wait "$monitor_pid"
+cat "$out"
+grep -q "^summary: 20 cycles (0..19), 0 missing" "$out"
+grep -q "^cycle 3 DEGRADED .*cams 2/3 cam_right (LOST)" "$out"
+grep -q "dropped 1 undecodable, 0 rejected" "$out"
+grep -q "recomputed error: 20 cycles, 0 disagree" "$out"
+echo "udpm monitor test: OK"
