@@ -17,7 +17,7 @@ using Clock = std::chrono::steady_clock;
 CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus) : config_(std::move(config)), bus_(bus) {
   const WorldStart start = plan_world_start(config_);
   sheet_ = std::make_unique<TrueSheet>(config_.sheet, config_.material);
-  load_report_ = sheet_->load(start.grasps, config_.initial_increment_m);
+  load_report_ = sheet_->load(start.grasps);
   for (const drivers::ArmConfig& arm : config_.hardware.arms)
     arms_.push_back(std::make_unique<SimulatedArm>(arm, start.arm_q.at(arm.name)));
   const GripperParameters parameters{config_.capture_distance_m, config_.grip_radius_m, config_.open_width_m};
@@ -38,30 +38,32 @@ CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus) : config_(std::mo
   next_arm_tick_ = next_gripper_tick_ = Clock::now();
 }
 
-CellWorld::~CellWorld() { stop(); }
+CellWorld::~CellWorld() {
+  stop();
+  for (const auto id : subscriptions_) bus_.unsubscribe(id);
+}
 
 void CellWorld::subscribe() {
   for (auto& arm : arms_) {
     SimulatedArm* a = arm.get();
-    bus_.subscribe<lcmt_iiwa_command>(drivers::channels::iiwa_command(a->name()), [this, a](const lcmt_iiwa_command& msg) {
+    subscriptions_.push_back(bus_.subscribe<lcmt_iiwa_command>(drivers::channels::iiwa_command(a->name()), [this, a](const lcmt_iiwa_command& msg) {
       const bool ok = a->command(msg);
       std::lock_guard lock(counters_mutex_);
       ++(ok ? counters_.arm_commands : counters_.arm_commands_rejected);
-    });
+    }));
   }
   for (auto& gripper : grippers_) {
     SimulatedGripper* g = gripper.get();
-    bus_.subscribe<prepreg_lcm::gripper_command_t>(
+    subscriptions_.push_back(bus_.subscribe<prepreg_lcm::gripper_command_t>(
         drivers::channels::gripper_command(g->name()), [this, g](const prepreg_lcm::gripper_command_t& msg) {
           const bool ok = g->command(msg);
           std::lock_guard lock(counters_mutex_);
           ++(ok ? counters_.gripper_commands : counters_.gripper_commands_rejected);
-        });
+        }));
   }
-  bus_.subscribe<prepreg_lcm::sim_fault_t>(std::string(drivers::channels::kSimFault),
-                                           [this](const prepreg_lcm::sim_fault_t& msg) {
-                                             on_fault(msg.target, msg.fault, msg.active);
-                                           });
+  subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sim_fault_t>(
+      std::string(drivers::channels::kSimFault),
+      [this](const prepreg_lcm::sim_fault_t& msg) { on_fault(msg.target, msg.fault, msg.active); }));
 }
 
 void CellWorld::on_fault(const std::string& target, const std::string& fault, bool active) {
@@ -183,7 +185,10 @@ void CellWorld::run_for(std::chrono::duration<double> duration, const std::atomi
 
 std::string CellWorld::emulation_spec() const {
   std::string spec;
-  for (const auto& cam : cameras_) spec += (spec.empty() ? "" : ",") + cam->emulation_spec();
+  for (const auto& cam : cameras_) {
+    if (!spec.empty()) spec += ',';
+    spec += cam->emulation_spec();
+  }
   return spec;
 }
 

@@ -9,7 +9,7 @@
 // Construction does the initial load (inverse kinematics for the arms, the hanging equilibrium
 // of the sheet; a few seconds) and creates the emulated device nodes; start() starts the
 // physics and camera threads. The bus must outlive the world; its subscriptions are made in the
-// constructor and handled by run_for, so both belong to one thread.
+// constructor and handled by run_for, and removed by the destructor, so all belong to one thread.
 
 #include <atomic>
 #include <chrono>
@@ -66,7 +66,7 @@ class CellWorld {
   WorldSnapshot snapshot() const;
   const TrueSheet& sheet() const { return *sheet_; }
   TrueSheet& sheet() { return *sheet_; }
-  const twin::ContinuationReport& load_report() const { return load_report_; }
+  const twin::SolveReport& load_report() const { return load_report_; }
   const std::vector<std::unique_ptr<SimulatedArm>>& arms() const { return arms_; }
   const std::vector<std::unique_ptr<SimulatedGripper>>& grippers() const { return grippers_; }
   std::shared_ptr<const RenderScene> scene() const;
@@ -81,8 +81,9 @@ class CellWorld {
 
   WorldConfig config_;
   drivers::LcmBus& bus_;
+  std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;  // dropped with the world
   std::unique_ptr<TrueSheet> sheet_;
-  twin::ContinuationReport load_report_;
+  twin::SolveReport load_report_;
   std::vector<std::unique_ptr<SimulatedArm>> arms_;
   std::vector<std::unique_ptr<SimulatedGripper>> grippers_;
   std::vector<std::unique_ptr<EmulatedCameraRig>> cameras_;

@@ -22,7 +22,7 @@
 
 #include "twin/clamp.h"
 #include "twin/implicit_stepper.h"
-#include "twin/quasi_static.h"
+#include "twin/static_solver.h"
 #include "twin/shell_model.h"
 #include "twin/sheet_spec.h"
 
@@ -50,11 +50,11 @@ class TrueSheet {
   // Throws std::invalid_argument for an invalid mesh or material.
   TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material);
 
-  // Places the flat sheet and moves the grasps' patches from where they lie on it to their held
-  // poses by quasi-static continuation (increments of increment_m), so the sheet starts at rest
-  // hanging as loaded. Throws std::runtime_error saying why if it does not converge or a clamp
-  // is invalid (naming the gripper).
-  twin::ContinuationReport load(const std::vector<HeldGrasp>& grasps, double increment_m);
+  // Places the flat sheet, holds the grasps' patches at their held poses and solves the static
+  // equilibrium (twin StaticSolver, settling when Newton alone stalls), so the sheet starts at
+  // rest hanging as loaded. Throws std::runtime_error saying why if it does not converge or a
+  // clamp is invalid (naming the gripper).
+  twin::SolveReport load(const std::vector<HeldGrasp>& grasps);
 
   // Closes gripper `name` with its jaw at `jaw_pose`: grips the nearest vertex's material point
   // if it is within capture_m of the jaw centre (grip radius radius_m). Returns whether it holds.

@@ -22,10 +22,9 @@ double optional_positive(const JsonField& parent, const char* key, double fallba
 
 void read_physics(const JsonField& w, WorldConfig& c) {
   if (auto p = w.optional("physics")) {
-    p->only_keys({"dt_s", "truth_hz", "initial_increment_m"});
+    p->only_keys({"dt_s", "truth_hz"});
     c.dt_s = optional_positive(*p, "dt_s", c.dt_s, "s");
     c.truth_hz = optional_positive(*p, "truth_hz", c.truth_hz, "Hz");
-    c.initial_increment_m = optional_positive(*p, "initial_increment_m", c.initial_increment_m, "m");
     if (c.dt_s > 0.1) (*p)["dt_s"].fail("must be at most 0.1 s (the world runs in real time)");
   }
   if (auto a = w.optional("arms")) {
@@ -66,7 +65,7 @@ std::string uri_device(const std::string& uri, const std::string& key) {
   return uri.substr(at + tag.size(), end == std::string::npos ? std::string::npos : end - at - tag.size());
 }
 
-void read_cameras(const JsonField& w, const nlohmann::json& document, const std::string& world_path,
+void read_cameras(const JsonField& w, const std::string& world_path,
                   const std::vector<drivers::CameraConfig>& cell_cameras, WorldConfig& c) {
   const JsonField cams = w["cameras"];
   std::set<std::string> seen;
@@ -84,8 +83,8 @@ void read_cameras(const JsonField& w, const nlohmann::json& document, const std:
     cam.config.backend = "simulated";
     cam.config.uri.clear();  // the scene comes from the world, not from a scene file
     const std::string pose_path = f.path() + ".camera_to_cell";
-    cam.config.camera_to_cell = drivers::parse_pose(
-        drivers::JsonField(document["cameras"][i]["camera_to_cell"], world_path, pose_path));
+    cam.config.camera_to_cell =
+        drivers::parse_pose(drivers::JsonField(f["camera_to_cell"].json(), world_path, pose_path));
     if (auto n = f.optional("noise")) cam.noise = read_d415_noise(*n);
     if (auto s = f.optional("seed")) cam.seed = static_cast<std::uint64_t>(s->positive_integer());
     cam.node_prefix = f["node_prefix"].string();
@@ -129,7 +128,7 @@ WorldConfig read_world_config(const std::string& cell_config_path, const std::st
   c.material = twin::read_material_file(material_path);
   read_physics(w, c);
   read_scene(w, c);
-  read_cameras(w, document, world_path, cell_cameras, c);
+  read_cameras(w, world_path, cell_cameras, c);
   return c;
 }
 

@@ -4,8 +4,7 @@
 // not know: the true sheet and material, the true camera poses, how the devices are emulated.
 //   {"sheet": {...},                       (twin/sheet_spec.h; the true sheet's own mesh)
 //    "material_file": "composite_truth.json",   (relative to this file; twin material file)
-//    "physics": {"dt_s": 0.0333, "truth_hz": 5,      (step, s; SIM_SHEET_TRUTH rate, Hz)
-//                "initial_increment_m": 0.02},       (quasi-static load increment, m; optional)
+//    "physics": {"dt_s": 0.0333, "truth_hz": 5},     (step, s; SIM_SHEET_TRUTH rate, Hz)
 //    "arms": {"status_hz": 100},                     (IIWA_STATUS_<ARM> rate = follow rate, Hz)
 //    "grippers": {"status_hz": 50, "capture_distance_m": 0.03,  (CLOSE grips within this, m)
 //                 "grip_radius_m": 0.02, "open_width_m": 0.06}, (clamp patch, m; jaw opening, m)
@@ -50,7 +49,6 @@ struct WorldConfig {
   twin::Material material;
   double dt_s = 1.0 / 30.0;
   double truth_hz = 5.0;
-  double initial_increment_m = 0.02;
   double arm_status_hz = 100.0;
   double gripper_status_hz = 50.0;
   double capture_distance_m = 0.03;

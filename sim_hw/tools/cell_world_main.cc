@@ -47,7 +47,10 @@ std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
   std::string cams;
   for (const auto& [name, frames] : s.camera_frames) cams += fmt::format(" {}={}", name, frames);
   std::string holding;
-  for (const auto& g : s.holding) holding += (holding.empty() ? "" : ",") + g;
+  for (const auto& g : s.holding) {
+    if (!holding.empty()) holding += ',';
+    holding += g;
+  }
   return fmt::format(
       "t={:.1f}s rtf={:.2f} step={:.1f}ms (max {:.1f}, failed {}) frames:{} arms={} moving={} "
       "holding=[{}] sag={:.3f}m truth={} cmds={}/{} rejected={}",
@@ -86,9 +89,8 @@ int main(int argc, char** argv) {
     sim_hw::CellWorld world(config, bus);
     const auto& load = world.load_report();
     if (!quiet)
-      fmt::print("cell_world: ply loaded ({} triangles, {}; {} increments, {:.1f} s), sag {:.3f} m\n",
-                 world.sheet().mesh().triangles.size(), config.sheet.description, load.increments,
-                 load.seconds, world.sheet().sag_m());
+      fmt::print("cell_world: ply loaded ({}; {} Newton iterations, {:.1f} s), sag {:.3f} m\n",
+                 config.sheet.description, load.iterations, load.seconds, world.sheet().sag_m());
     if (!env_path.empty()) write_emulation_env(env_path, world.emulation_spec());
     if (!quiet) fmt::print("emulation {}\n", world.emulation_spec());
     std::fflush(stdout);

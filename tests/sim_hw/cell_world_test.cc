@@ -33,7 +33,7 @@ TEST_CASE("initial load: the arms hold the jaws and the sheet hangs at rest from
   const sim_hw::WorldStart start = sim_hw::plan_world_start(config);
   REQUIRE(start.grasps.size() == 4);
   sim_hw::TrueSheet sheet(config.sheet, config.material);
-  REQUIRE(sheet.load(start.grasps, config.initial_increment_m).usable());
+  REQUIRE(sheet.load(start.grasps).usable());
   const twin::VecX x = sheet.positions();
   for (const sim_hw::HeldGrasp& g : start.grasps) {
     const twin::Clamp clamp(sheet.mesh(), g.clamp);
@@ -111,7 +111,14 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   bus.publish("IIWA_COMMAND_LEFT", drivers::make_iiwa_command(drivers::utime_now(), target));
   lcmt_iiwa_command bad = drivers::make_iiwa_command(drivers::utime_now(), target);
   bad.joint_position[1] = std::nan("");
-  bus.publish("IIWA_COMMAND_LEFT", bad);
+  // Sent as raw bytes: the bus refuses to publish a message failing its checks.
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(bad.getEncodedSize()));
+  REQUIRE(bad.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
+  bus.publish_raw("IIWA_COMMAND_LEFT", bytes.data(), bytes.size());
+  lcmt_iiwa_command torque = drivers::make_iiwa_command(drivers::utime_now(), target);
+  torque.num_torques = 7;
+  torque.joint_torque.assign(7, 1.0);
+  bus.publish("IIWA_COMMAND_LEFT", torque);
   prepreg_lcm::sim_fault_t twin_fault{};
   twin_fault.target = "twin";
   twin_fault.fault = "diverge";
@@ -140,15 +147,17 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   world.stop();
   const sim_hw::WorldSnapshot s = world.snapshot();
   CHECK(s.counters.arm_commands == 1);
-  CHECK(s.counters.arm_commands_rejected + bus.counters().rejected >= 1);  // the bus or the arm dropped it
+  // The NaN command is dropped by the bus's check; the torque command (valid LCM, not position
+  // control) by the arm, unless the bus's check refused it already.
+  CHECK(s.counters.arm_commands_rejected + bus.counters().rejected + bus.counters().publish_failures == 2);
   CHECK(s.counters.faults_not_ours == 1);
   CHECK(s.counters.faults_applied == 1);
   CHECK(truths >= 5);  // 5 Hz
   CHECK(truth_vertices == world.sheet().mesh().vertex_count());
   CHECK(s.physics.failures == 0);
   CHECK(s.holding.size() == 4);
-  CHECK(frames >= 10);  // 15 fps over ~1.6 s
-  CHECK(valid_pixels > 212 * 120 / 4);  // it sees the sheet, table and floor
+  CHECK(frames >= 5);  // 6 fps over ~1.6 s
+  CHECK(valid_pixels > 848 * 480 / 4);  // it sees the sheet, table and floor
   CHECK(s.camera_frames.size() == 3);
-  for (const auto& [name, n] : s.camera_frames) CHECK(n >= 10);
+  for (const auto& [name, n] : s.camera_frames) CHECK(n >= 5);
 }

@@ -27,7 +27,7 @@ struct WorldFiles {
 };
 
 struct WorldEdits {
-  int camera_width = 212, camera_height = 120, fps = 15;  // 848x480 / 4
+  int camera_width = 848, camera_height = 480, fps = 6;  // the slowest D415 mode
   int triangles = 600;
   std::function<void(nlohmann::json& cell)> cell;
   std::function<void(nlohmann::json& world)> world;
