@@ -4,6 +4,10 @@
 
 #include <unistd.h>
 
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
 #include <thread>
 
 #include <catch2/catch.hpp>
@@ -13,6 +17,7 @@
 
 #include "drivers/iiwa_lcm.h"
 #include "drivers/lcm_channels.h"
+#include "drivers/monitored_depth_camera.h"
 #include "drivers/v4l2_d415_camera.h"
 #include "sim_hw/cell_world.h"
 #include "sim_hw/emulated_v4l2_io.h"
@@ -79,24 +84,26 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   const sim_hw::WorldCamera& front = config.cameras[0];
   auto io = std::make_shared<sim_hw::EmulatedV4l2Io>(std::map<std::string, std::string>{
       {front.depth_device, front.node_prefix + "_depth"}, {front.color_device, front.node_prefix + "_color"}});
-  drivers::V4l2D415Camera reader(io);
+  drivers::MonitoredDepthCamera reader(std::make_unique<drivers::V4l2D415Camera>(io));
   drivers::CameraConfig v4l2 = front.config;
   v4l2.backend = "v4l2";
   v4l2.uri = "depth=" + front.depth_device + ",color=" + front.color_device;
   REQUIRE(reader.configure(v4l2).ok);
   REQUIRE(reader.activate().ok);
   world.start();
-  std::atomic<int> frames{0}, valid_pixels{0};
+  std::atomic<int> frames{0}, valid_pixels{0}, lost{0};
   std::atomic<bool> reading{true};
   std::thread read_thread([&] {
     drivers::DepthFrame f;
-    while (reading)
-      if (reader.read(f) == drivers::ReadStatus::kFrame) {
-        ++frames;
-        int n = 0;
-        for (auto d : f.depth_mm) n += d > 0;
-        valid_pixels = n;
-      }
+    while (reading) {
+      const drivers::ReadStatus status = reader.read(f);
+      if (status == drivers::ReadStatus::kLost) ++lost;
+      if (status != drivers::ReadStatus::kFrame) continue;
+      ++frames;
+      int n = 0;
+      for (auto d : f.depth_mm) n += d > 0;
+      valid_pixels = n;
+    }
   });
 
   world.run_for(0.5s);
@@ -128,6 +135,13 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   const drivers::JointVector q1 = *drivers::measured_positions(left.back());
   CHECK(q1[0] == Approx(q0[0] + 0.1).margin(1e-6));
   CHECK(left.back().joint_position_commanded[0] == Approx(target[0]));
+  // LEFT's gripper carried its patch of the true sheet along with the jaw.
+  const sim_hw::SimulatedArm& left_arm = *world.arms()[0];
+  REQUIRE(left_arm.name() == "LEFT");
+  const twin::Clamp left_clamp(world.sheet().mesh(), config.plan.grasps[config.plan.index_of("LEFT")].clamp);
+  const twin::Vec3 hold = config.plan.grasps[config.plan.index_of("LEFT")].hold_position_m;
+  CHECK((left_arm.jaw_pose().translation() - hold).norm() > 0.03);  // A1 +0.1 rad: ~4.5 cm
+  CHECK((left_clamp.material_point_position(world.sheet().positions()) - left_arm.jaw_pose().translation()).norm() < 2e-3);
 
   // Status silence on RIGHT, then the run's counters.
   prepreg_lcm::sim_fault_t silent{};
@@ -142,6 +156,24 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   const std::size_t left_count = left.size();
   CHECK(left_count > 100);  // 100 Hz over ~1.6 s
 
+  // A dead camera: its nodes are unplugged and the reader sees the device lost; cleared, it
+  // comes back and frames arrive again.
+  const int frames_before_dead = frames;
+  prepreg_lcm::sim_fault_t dead{};
+  dead.target = "cam_front";
+  dead.fault = "dead";
+  dead.active = true;
+  bus.publish("SIM_FAULT", dead);
+  world.run_for(0.8s);
+  CHECK(lost > 0);
+  const int frames_while_dead = frames - frames_before_dead;
+  CHECK(frames_while_dead <= 1);  // at most one already in flight
+  dead.active = false;
+  bus.publish("SIM_FAULT", dead);
+  const int frames_at_clear = frames;
+  world.run_for(1.2s);
+  CHECK(frames - frames_at_clear >= 2);
+
   reading = false;
   read_thread.join();
   world.stop();
@@ -151,7 +183,7 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   // control) by the arm, unless the bus's check refused it already.
   CHECK(s.counters.arm_commands_rejected + bus.counters().rejected + bus.counters().publish_failures == 2);
   CHECK(s.counters.faults_not_ours == 1);
-  CHECK(s.counters.faults_applied == 1);
+  CHECK(s.counters.faults_applied == 3);
   CHECK(truths >= 5);  // 5 Hz
   CHECK(truth_vertices == world.sheet().mesh().vertex_count());
   CHECK(s.physics.failures == 0);
@@ -160,4 +192,19 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   CHECK(valid_pixels > 848 * 480 / 4);  // it sees the sheet, table and floor
   CHECK(s.camera_frames.size() == 3);
   for (const auto& [name, n] : s.camera_frames) CHECK(n >= 5);
+}
+
+TEST_CASE("cell_world: a bad config exits 1 naming the file and the field", "[world]") {
+  testing_support::TempDir dir("cell_world_tool");
+  world_test::WorldEdits e;
+  e.world = [](nlohmann::json& w) { w["physics"]["truth_hz"] = "fast"; };
+  const world_test::WorldFiles files = world_test::make_world_files(dir, e);
+  const std::string command = std::string(CELL_WORLD_EXE) + " --config " + files.cell + " --world " + files.world +
+                              " --lcm memq:// --max-seconds 1 --quiet 2>" + (dir / "err.txt").string();
+  const int status = std::system(command.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  std::ifstream err(dir / "err.txt");
+  const std::string text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+  CHECK_THAT(text, Catch::Contains("world.json") && Catch::Contains("physics.truth_hz"));
 }
