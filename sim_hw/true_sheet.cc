@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <omp.h>
+
 namespace sim_hw {
 
 TrueSheet::TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material)
@@ -14,7 +16,17 @@ TrueSheet::TrueSheet(const twin::SheetSpec& sheet, const twin::Material& materia
   published_x_ = x_;
 }
 
+namespace {
+
+// The world is one physics thread next to the camera threads and the cell process on 2 shared
+// cores: the twin's element loops run single-threaded here (an OpenMP team per step only adds
+// waiting when the cores are busy). The setting is per thread, so each solving thread makes it.
+void single_threaded_elements() { omp_set_num_threads(1); }
+
+}  // namespace
+
 twin::SolveReport TrueSheet::load(const std::vector<HeldGrasp>& grasps) {
+  single_threaded_elements();
   std::vector<twin::ClampSpec> specs;
   for (const HeldGrasp& g : grasps) specs.push_back(g.clamp);
   twin::ClampSet set;
@@ -130,6 +142,7 @@ void TrueSheet::step(double dt_s) {
     stats_.paused = specs.empty();
   }
   if (specs.empty()) return;
+  single_threaded_elements();
   const auto start = std::chrono::steady_clock::now();
   std::string failure;
   if (changed || !clamps_) {

@@ -14,6 +14,7 @@
 #include <fmt/core.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +64,12 @@ std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // OpenMP threads that wait by spinning steal the cores the cameras, the physics and the cell
+  // process need; libgomp reads the policy when it loads, so set it and start again once.
+  if (!std::getenv("OMP_WAIT_POLICY")) {
+    ::setenv("OMP_WAIT_POLICY", "passive", 1);
+    ::execv("/proc/self/exe", argv);  // returns only on failure: then run on as we are
+  }
   CLI::App app{"The cell's fake hardware: true sheet, simulated iiwa arms, grippers and D415s on LCM"};
   std::string cell_path, world_path, lcm_url = drivers::kLoopbackLcmUrl, env_path;
   double max_seconds = 0;
