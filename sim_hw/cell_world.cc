@@ -179,7 +179,7 @@ void CellWorld::run_for(std::chrono::duration<double> duration, const std::atomi
     }
     const auto wait = std::clamp(next_arm_tick_ - Clock::now(), Clock::duration::zero(),
                                  std::chrono::duration_cast<Clock::duration>(std::chrono::milliseconds(5)));
-    bus_.handle_for(std::chrono::duration_cast<std::chrono::milliseconds>(wait));
+    bus_.handle_for(std::chrono::ceil<std::chrono::milliseconds>(wait));  // never 0 ms: no busy wait
   }
 }
 

@@ -53,10 +53,10 @@ std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
     holding += g;
   }
   return fmt::format(
-      "t={:.1f}s rtf={:.2f} step={:.1f}ms (max {:.1f}, failed {}) frames:{} arms={} moving={} "
+      "t={:.1f}s rtf={:.2f} step={:.1f}ms (max {:.1f}, failed {}, overruns {}) frames:{} arms={} moving={} "
       "holding=[{}] sag={:.3f}m truth={} cmds={}/{} rejected={}",
       s.sim_time_s, s.wall_time_s > 0 ? s.sim_time_s / s.wall_time_s : 0.0, s.physics.last_step_ms,
-      s.physics.max_step_ms, s.physics.failures, cams, arms, s.arms_moving, holding, s.sag_m,
+      s.physics.max_step_ms, s.physics.failures, s.counters.physics_overruns, cams, arms, s.arms_moving, holding, s.sag_m,
       s.counters.truth_published, s.counters.arm_commands, s.counters.gripper_commands,
       s.counters.arm_commands_rejected + s.counters.gripper_commands_rejected);
 }

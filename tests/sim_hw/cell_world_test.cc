@@ -143,6 +143,16 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   CHECK((left_arm.jaw_pose().translation() - hold).norm() > 0.03);  // A1 +0.1 rad: ~4.5 cm
   CHECK((left_clamp.material_point_position(world.sheet().positions()) - left_arm.jaw_pose().translation()).norm() < 2e-3);
 
+  // The operator lets go of the MANUAL grasp on GRIPPER_COMMAND_MANUAL.
+  prepreg_lcm::gripper_command_t open{};
+  open.utime = drivers::utime_now();
+  open.action = prepreg_lcm::gripper_command_t::ACTION_OPEN;
+  open.width_m = 0.05f;
+  bus.publish("GRIPPER_COMMAND_MANUAL", open);
+  world.run_for(0.1s);
+  CHECK_FALSE(manual_holding);
+  CHECK(left_holding);
+
   // Status silence on RIGHT, then the run's counters.
   prepreg_lcm::sim_fault_t silent{};
   silent.target = "RIGHT";
@@ -187,7 +197,8 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   CHECK(truths >= 5);  // 5 Hz
   CHECK(truth_vertices == world.sheet().mesh().vertex_count());
   CHECK(s.physics.failures == 0);
-  CHECK(s.holding.size() == 4);
+  CHECK(s.holding.size() == 3);  // all but MANUAL
+  CHECK(s.counters.gripper_commands == 1);
   CHECK(frames >= 5);  // 6 fps over ~1.6 s
   CHECK(valid_pixels > 848 * 480 / 4);  // it sees the sheet, table and floor
   CHECK(s.camera_frames.size() == 3);
