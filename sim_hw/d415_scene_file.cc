@@ -167,4 +167,6 @@ SimulatedD415Options load_d415_scene_file(const std::string& path) {
   return options;
 }
 
+D415NoiseConfig read_d415_noise(const twin::JsonField& noise) { return read_noise(noise); }
+
 }  // namespace sim_hw

@@ -23,11 +23,15 @@
 #include <string>
 
 #include "sim_hw/simulated_d415.h"
+#include "twin/json_field.h"
 
 namespace sim_hw {
 
 // Throws std::runtime_error / std::invalid_argument naming the file and field (or the mesh file
 // and line) and what was expected.
 SimulatedD415Options load_d415_scene_file(const std::string& path);
+
+// The "noise" object alone (also used by the fake world's config, world_config.h).
+D415NoiseConfig read_d415_noise(const twin::JsonField& noise);
 
 }  // namespace sim_hw

@@ -1,0 +1,87 @@
+#include "sim_hw/emulated_camera_rig.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace sim_hw {
+namespace {
+
+SimulatedD415Options options_for(const WorldCamera& camera, SceneSource scene) {
+  SimulatedD415Options o;
+  o.scene = std::move(scene);
+  o.noise = camera.noise;
+  o.seed = camera.seed;
+  o.clock = SimClock::kWall;  // the bridge needs a camera that runs at real time
+  return o;
+}
+
+}  // namespace
+
+EmulatedCameraRig::EmulatedCameraRig(const WorldCamera& camera, SceneSource scene)
+    : camera_(camera), d415_(options_for(camera, std::move(scene))) {
+  drivers::DriverResult r = d415_.configure(camera_.config);
+  if (r.ok) r = d415_.activate();
+  if (!r.ok) throw std::runtime_error("camera " + camera_.config.name + ": " + r.message);
+  activated_at_ = std::chrono::steady_clock::now();
+  bridge_ = std::make_unique<V4l2CameraBridge>(d415_, camera_.config, camera_.node_prefix);
+}
+
+EmulatedCameraRig::~EmulatedCameraRig() { stop(); }
+
+void EmulatedCameraRig::start() {
+  if (thread_.joinable()) return;
+  stop_ = false;
+  thread_ = std::thread([this] { run(); });
+}
+
+void EmulatedCameraRig::stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void EmulatedCameraRig::run() {
+  // read() waits for the next frame; when it returns at once (a dead device) the loop is still
+  // paced at the frame rate, as the d415_v4l2_emulator does.
+  const auto period = std::chrono::microseconds(1000000 / std::max(1, camera_.config.depth_mode.fps));
+  auto next = std::chrono::steady_clock::now();
+  while (!stop_) {
+    const drivers::ReadStatus s = bridge_->pump();
+    if (s == drivers::ReadStatus::kFrame) ++frames_;
+    if (s == drivers::ReadStatus::kLost) ++lost_;
+    next = std::max(next + period, std::chrono::steady_clock::now() - period);
+    std::this_thread::sleep_until(next);
+  }
+}
+
+double EmulatedCameraRig::now_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_at_).count();
+}
+
+bool EmulatedCameraRig::apply_fault(const std::string& fault, bool active) {
+  D415FaultConfig f = d415_.faults();
+  const double t = now_s();
+  const double never = D415FaultConfig::kNever;
+  if (fault == "dead") {
+    if (active) f.dead_from_s = t, f.dead_until_s = never;
+    else f.dead_until_s = std::min(f.dead_until_s, t);
+  } else if (fault == "frozen") {
+    if (active) f.frozen_from_s = t, f.frozen_until_s = never;
+    else f.frozen_until_s = std::min(f.frozen_until_s, t);
+  } else if (fault == "stale") {
+    if (active) f.stale_from_s = t, f.stale_until_s = never, f.stale_mode = StaleMode::kStopped;
+    else f.stale_until_s = std::min(f.stale_until_s, t);
+  } else if (fault == "drop") {
+    if (active) f.drop_probability = 0.5, f.drop_from_s = t, f.drop_until_s = never;
+    else f.drop_until_s = std::min(f.drop_until_s, t);
+  } else {
+    return false;
+  }
+  d415_.set_faults(f);
+  return true;
+}
+
+std::string EmulatedCameraRig::emulation_spec() const {
+  return bridge_->emulation_spec(camera_.depth_device, camera_.color_device);
+}
+
+}  // namespace sim_hw

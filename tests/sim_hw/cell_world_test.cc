@@ -1,0 +1,221 @@
+// The whole fake world: the initial load (arms at the IK solutions, the sheet hanging at rest with
+// the grasped points at the hold positions) and a short run on memq:// with the cameras served
+// as emulated V4L2 devices and read back through the real V4L2 back-end.
+
+#include <unistd.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+#include <catch2/catch.hpp>
+#include <prepreg_lcm/gripper_status_t.hpp>
+#include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_fault_t.hpp>
+
+#include "drivers/iiwa_lcm.h"
+#include "drivers/lcm_channels.h"
+#include "drivers/monitored_depth_camera.h"
+#include "drivers/v4l2_d415_camera.h"
+#include "sim_hw/cell_world.h"
+#include "sim_hw/emulated_v4l2_io.h"
+#include "sim_hw/world_start.h"
+#include "tests/sim_hw/world_test_files.h"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+}  // namespace
+
+TEST_CASE("initial load: the arms hold the jaws and the sheet hangs at rest from the hold positions", "[world]") {
+  const std::string src = PREPREG_SOURCE_DIR;
+  const sim_hw::WorldConfig config =
+      sim_hw::read_world_config(src + "/cell/examples/fake_cell.json", src + "/sim_hw/examples/fake_world.json");
+  CHECK(config.sheet.mesh.triangles.size() > 1800);  // its own mesh, not the twin's 1500
+  const sim_hw::WorldStart start = sim_hw::plan_world_start(config);
+  REQUIRE(start.grasps.size() == 4);
+  sim_hw::TrueSheet sheet(config.sheet, config.material);
+  REQUIRE(sheet.load(start.grasps).usable());
+  const twin::VecX x = sheet.positions();
+  for (const sim_hw::HeldGrasp& g : start.grasps) {
+    const twin::Clamp clamp(sheet.mesh(), g.clamp);
+    const twin::Vec3 hold = config.plan.grasps[config.plan.index_of(g.clamp.id)].hold_position_m;
+    INFO(g.clamp.id);
+    CHECK((clamp.material_point_position(x) - hold).norm() < 1e-3);
+    CHECK((g.jaw_pose.translation() - hold).norm() < 1e-3);  // the arm's jaw (FK) or the operator's
+    if (const auto* gr = config.hardware.find_gripper(g.clamp.id); gr && !gr->arm.empty()) {
+      const drivers::ArmConfig& arm = *config.hardware.find_arm(gr->arm);
+      const auto flange = arm.arm().flange_in_cell(start.arm_q.at(arm.name));
+      CHECK((drivers::jaw_position(arm, flange) - hold).norm() < 1e-3);
+      CHECK(arm.arm().within_limits(start.arm_q.at(arm.name)));
+    }
+  }
+  CHECK(sheet.sag_m() > 0.05);
+  CHECK(sheet.sag_m() < 0.8);
+  // At rest: a second of real-time physics barely moves it.
+  for (int i = 0; i < 30; ++i) sheet.step(1.0 / 30);
+  CHECK(sheet.stats().failures == 0);
+  CHECK((sheet.positions() - x).cwiseAbs().maxCoeff() < 5e-3);
+}
+
+TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults and camera frames", "[world]") {
+  testing_support::TempDir dir("cell_world");
+  const world_test::WorldFiles files = world_test::make_world_files(dir);
+  drivers::LcmBus bus("memq://");
+  sim_hw::CellWorld world(sim_hw::read_world_config(files.cell, files.world), bus);
+
+  std::vector<lcmt_iiwa_status> left;
+  int right_statuses = 0, truths = 0, truth_vertices = 0;
+  bool left_holding = false, manual_holding = false;
+  bus.subscribe<lcmt_iiwa_status>("IIWA_STATUS_LEFT", [&](const lcmt_iiwa_status& s) { left.push_back(s); });
+  bus.subscribe<lcmt_iiwa_status>("IIWA_STATUS_RIGHT", [&](const lcmt_iiwa_status&) { ++right_statuses; });
+  bus.subscribe<prepreg_lcm::gripper_status_t>("GRIPPER_STATUS_LEFT", [&](const auto& s) { left_holding = s.holding; });
+  bus.subscribe<prepreg_lcm::gripper_status_t>("GRIPPER_STATUS_MANUAL", [&](const auto& s) { manual_holding = s.holding; });
+  bus.subscribe<prepreg_lcm::sheet_state_t>("SIM_SHEET_TRUTH", [&](const prepreg_lcm::sheet_state_t& s) {
+    ++truths;
+    truth_vertices = s.num_vertices;
+  });
+
+  // The front camera read through the V4L2 back-end over the emulation, on its own thread.
+  const sim_hw::WorldConfig config = sim_hw::read_world_config(files.cell, files.world);
+  const sim_hw::WorldCamera& front = config.cameras[0];
+  auto io = std::make_shared<sim_hw::EmulatedV4l2Io>(std::map<std::string, std::string>{
+      {front.depth_device, front.node_prefix + "_depth"}, {front.color_device, front.node_prefix + "_color"}});
+  drivers::MonitoredDepthCamera reader(std::make_unique<drivers::V4l2D415Camera>(io));
+  drivers::CameraConfig v4l2 = front.config;
+  v4l2.backend = "v4l2";
+  v4l2.uri = "depth=" + front.depth_device + ",color=" + front.color_device;
+  REQUIRE(reader.configure(v4l2).ok);
+  REQUIRE(reader.activate().ok);
+  world.start();
+  std::atomic<int> frames{0}, valid_pixels{0}, lost{0};
+  std::atomic<bool> reading{true};
+  std::thread read_thread([&] {
+    drivers::DepthFrame f;
+    while (reading) {
+      const drivers::ReadStatus status = reader.read(f);
+      if (status == drivers::ReadStatus::kLost) ++lost;
+      if (status != drivers::ReadStatus::kFrame) continue;
+      ++frames;
+      int n = 0;
+      for (auto d : f.depth_mm) n += d > 0;
+      valid_pixels = n;
+    }
+  });
+
+  world.run_for(0.5s);
+  REQUIRE_FALSE(left.empty());
+  const drivers::JointVector q0 = *drivers::measured_positions(left.back());
+  CHECK(left.back().num_joints == 7);
+  CHECK(left_holding);
+  CHECK(manual_holding);
+  // Command LEFT's A1 by +0.1 rad, plus one malformed command.
+  drivers::JointVector target = q0;
+  target[0] += 0.1;
+  bus.publish("IIWA_COMMAND_LEFT", drivers::make_iiwa_command(drivers::utime_now(), target));
+  lcmt_iiwa_command bad = drivers::make_iiwa_command(drivers::utime_now(), target);
+  bad.joint_position[1] = std::nan("");
+  // Sent as raw bytes: the bus refuses to publish a message failing its checks.
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(bad.getEncodedSize()));
+  REQUIRE(bad.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
+  bus.publish_raw("IIWA_COMMAND_LEFT", bytes.data(), bytes.size());
+  lcmt_iiwa_command torque = drivers::make_iiwa_command(drivers::utime_now(), target);
+  torque.num_torques = 7;
+  torque.joint_torque.assign(7, 1.0);
+  bus.publish("IIWA_COMMAND_LEFT", torque);
+  prepreg_lcm::sim_fault_t twin_fault{};
+  twin_fault.target = "twin";
+  twin_fault.fault = "diverge";
+  twin_fault.active = true;
+  bus.publish("SIM_FAULT", twin_fault);
+  world.run_for(0.8s);
+  const drivers::JointVector q1 = *drivers::measured_positions(left.back());
+  CHECK(q1[0] == Approx(q0[0] + 0.1).margin(1e-6));
+  CHECK(left.back().joint_position_commanded[0] == Approx(target[0]));
+  // LEFT's gripper carried its patch of the true sheet along with the jaw.
+  const sim_hw::SimulatedArm& left_arm = *world.arms()[0];
+  REQUIRE(left_arm.name() == "LEFT");
+  const twin::Clamp left_clamp(world.sheet().mesh(), config.plan.grasps[config.plan.index_of("LEFT")].clamp);
+  const twin::Vec3 hold = config.plan.grasps[config.plan.index_of("LEFT")].hold_position_m;
+  CHECK((left_arm.jaw_pose().translation() - hold).norm() > 0.03);  // A1 +0.1 rad: ~4.5 cm
+  CHECK((left_clamp.material_point_position(world.sheet().positions()) - left_arm.jaw_pose().translation()).norm() < 2e-3);
+
+  // The operator lets go of the MANUAL grasp on GRIPPER_COMMAND_MANUAL.
+  prepreg_lcm::gripper_command_t open{};
+  open.utime = drivers::utime_now();
+  open.action = prepreg_lcm::gripper_command_t::ACTION_OPEN;
+  open.width_m = 0.05f;
+  bus.publish("GRIPPER_COMMAND_MANUAL", open);
+  world.run_for(0.1s);
+  CHECK_FALSE(manual_holding);
+  CHECK(left_holding);
+
+  // Status silence on RIGHT, then the run's counters.
+  prepreg_lcm::sim_fault_t silent{};
+  silent.target = "RIGHT";
+  silent.fault = "status_silent";
+  silent.active = true;
+  bus.publish("SIM_FAULT", silent);
+  world.run_for(0.05s);
+  const int right_before = right_statuses;
+  world.run_for(0.3s);
+  CHECK(right_statuses == right_before);
+  const std::size_t left_count = left.size();
+  CHECK(left_count > 100);  // 100 Hz over ~1.6 s
+
+  // A dead camera: its nodes are unplugged and the reader sees the device lost; cleared, it
+  // comes back and frames arrive again.
+  const int frames_before_dead = frames;
+  prepreg_lcm::sim_fault_t dead{};
+  dead.target = "cam_front";
+  dead.fault = "dead";
+  dead.active = true;
+  bus.publish("SIM_FAULT", dead);
+  world.run_for(0.8s);
+  CHECK(lost > 0);
+  const int frames_while_dead = frames - frames_before_dead;
+  CHECK(frames_while_dead <= 1);  // at most one already in flight
+  dead.active = false;
+  bus.publish("SIM_FAULT", dead);
+  const int frames_at_clear = frames;
+  world.run_for(1.2s);
+  CHECK(frames - frames_at_clear >= 2);
+
+  reading = false;
+  read_thread.join();
+  world.stop();
+  const sim_hw::WorldSnapshot s = world.snapshot();
+  CHECK(s.counters.arm_commands == 1);
+  // The NaN command is dropped by the bus's check; the torque command (valid LCM, not position
+  // control) by the arm, unless the bus's check refused it already.
+  CHECK(s.counters.arm_commands_rejected + bus.counters().rejected + bus.counters().publish_failures == 2);
+  CHECK(s.counters.faults_not_ours == 1);
+  CHECK(s.counters.faults_applied == 3);
+  CHECK(truths >= 5);  // 5 Hz
+  CHECK(truth_vertices == world.sheet().mesh().vertex_count());
+  CHECK(s.physics.failures == 0);
+  CHECK(s.holding.size() == 3);  // all but MANUAL
+  CHECK(s.counters.gripper_commands == 1);
+  CHECK(frames >= 5);  // 6 fps over ~1.6 s
+  CHECK(valid_pixels > 848 * 480 / 4);  // it sees the sheet, table and floor
+  CHECK(s.camera_frames.size() == 3);
+  for (const auto& [name, n] : s.camera_frames) CHECK(n >= 5);
+}
+
+TEST_CASE("cell_world: a bad config exits 1 naming the file and the field", "[world]") {
+  testing_support::TempDir dir("cell_world_tool");
+  world_test::WorldEdits e;
+  e.world = [](nlohmann::json& w) { w["physics"]["truth_hz"] = "fast"; };
+  const world_test::WorldFiles files = world_test::make_world_files(dir, e);
+  const std::string command = std::string(CELL_WORLD_EXE) + " --config " + files.cell + " --world " + files.world +
+                              " --lcm memq:// --max-seconds 1 --quiet 2>" + (dir / "err.txt").string();
+  const int status = std::system(command.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  std::ifstream err(dir / "err.txt");
+  const std::string text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+  CHECK_THAT(text, Catch::Contains("world.json") && Catch::Contains("physics.truth_hz"));
+}
