@@ -17,6 +17,9 @@ struct HangMetrics {
   // Smallest bend radius over all hinges (m): a hinge whose two triangles turn by angle theta
   // (between their normals) over the distance d between their centroids across the shared edge
   // (d = (h_A + h_B) / 3 with h the triangles' rest heights over that edge) has radius d / theta.
+  // A hinge sees the curvature across it only: on offset-row meshes, whose edges are 0, 60 and
+  // 120 degrees from u, a cylinder bent along u reads up to 1 / cos(30 deg) = 1.15 times its
+  // radius (tested).
   double min_bend_radius_m = std::numeric_limits<double>::infinity();
   // Share of the rest area whose normal (the side facing up when the ply was laid out flat)
   // points more than 30 degrees below horizontal (n_z < -0.5): turned over.
