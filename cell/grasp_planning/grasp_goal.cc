@@ -26,7 +26,7 @@ std::vector<double> positive_list(const JsonField& f, const char* unit) {
 GraspSearchOptions read_search(const JsonField& f) {
   GraspSearchOptions s;
   f.only_keys({"inset_m", "ring_spacing_m", "slack_factors", "random_candidates",
-               "screening_triangles", "finalists", "seed"});
+               "screening_triangles", "finalists", "refine_evaluations", "seed"});
   if (auto v = f.optional("inset_m")) s.inset_m = positive_list(*v, "m");
   if (auto v = f.optional("ring_spacing_m")) s.ring_spacing_m = v->positive("m");
   if (auto v = f.optional("slack_factors")) {
@@ -48,6 +48,12 @@ GraspSearchOptions read_search(const JsonField& f) {
   }
   if (auto v = f.optional("screening_triangles")) s.screening_triangles = v->positive_integer();
   if (auto v = f.optional("finalists")) s.finalists = v->positive_integer();
+  if (auto v = f.optional("refine_evaluations")) {
+    if (!v->json().is_number_integer() || v->json().get<long long>() < 0 || v->json().get<long long>() > 10000) {
+      v->fail("must be an integer from 0 (no refinement) to 10000");
+    }
+    s.refine_evaluations = v->json().get<int>();
+  }
   if (auto v = f.optional("seed")) s.seed = static_cast<unsigned>(v->positive_integer());
   return s;
 }

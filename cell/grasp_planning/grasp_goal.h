@@ -53,6 +53,7 @@ struct GraspSearchOptions {
   int random_candidates = 12;                        // extra seeded random point sets per ring
   int screening_triangles = 400;                     // coarse mesh (rectangular plies only)
   int finalists = 3;                                 // best screened, re-simulated on the target
+  int refine_evaluations = 0;                        // BOBYQA refinement of the best (0: none)
   unsigned seed = 1;
 };
 

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "cell/grasp_planning/grasp_assignment.h"
+#include "cell/grasp_planning/grasp_refinement.h"
 
 namespace cell {
 namespace {
@@ -82,7 +83,6 @@ PlannerResult plan_grasps(const GraspGoal& goal, const PlannerOptions& options) 
   }
   r.screening_seconds = seconds_since(screen_start);
   std::stable_sort(r.ranked.begin(), r.ranked.end(), better);
-
   const auto final_start = std::chrono::steady_clock::now();
   for (CandidateResult& c : r.ranked) {
     if (r.finalists >= goal.search.finalists || !c.unreachable.empty() || !c.screening.solved) break;
@@ -98,14 +98,37 @@ PlannerResult plan_grasps(const GraspGoal& goal, const PlannerOptions& options) 
   r.final_seconds = seconds_since(final_start);
   std::stable_sort(r.ranked.begin(), r.ranked.begin() + r.finalists, better);
 
+  // Refinement on the target mesh: the screening mesh ranks candidates roughly but its optimum
+  // is not the target's (measured on the example: 0.14 m screened became 0.19 m on the target).
+  const CandidateResult& leader = r.ranked.front();
+  if (goal.search.refine_evaluations > 0 && leader.target && leader.target->solved) {
+    CandidateResult start = leader;
+    start.screening = *leader.target;
+    RefinementResult refinement = refine_candidate(fine, goal, start, options.cell, goal.search.refine_evaluations);
+    r.refine_evaluations = refinement.evaluations;
+    r.refine_seconds = refinement.seconds;
+    r.refined = refinement.improved;
+    if (options.progress) {
+      options.progress(fmt::format("refine: {} evaluations on the target mesh in {:.1f} s, {}",
+                                   refinement.evaluations, refinement.seconds,
+                                   refinement.improved
+                                       ? fmt::format("sag {:.3f} m", refinement.best.screening.metrics.sag_m)
+                                       : std::string("no improvement")));
+    }
+    if (refinement.improved) {
+      refinement.best.target = refinement.best.screening;
+      r.ranked.insert(r.ranked.begin(), std::move(refinement.best));
+    }
+  }
+
   const CandidateResult& best = r.ranked.front();
   r.plan.grasps = best.grasps;
   const HangEvaluation* e = ranking_evaluation(best);
   const std::string search = fmt::format(
-      "{} candidates ({} unreachable) screened on {} triangles in {:.1f} s, best {} re-simulated on {} "
-      "triangles in {:.1f} s",
-      r.candidates, r.unreachable, r.screening_triangles, r.screening_seconds, r.finalists,
-      r.target_triangles, r.final_seconds);
+      "{} candidates ({} unreachable) screened on {} triangles in {:.1f} s, {} refinement evaluations "
+      "in {:.1f} s, best {} re-simulated on {} triangles in {:.1f} s",
+      r.candidates, r.unreachable, r.screening_triangles, r.screening_seconds, r.refine_evaluations,
+      r.refine_seconds, r.finalists, r.target_triangles, r.final_seconds);
   if (e && e->solved) {
     r.plan.predicted_sag_m = e->metrics.sag_m;
     r.plan.feasible = e->feasible && best.target.has_value();

@@ -11,6 +11,8 @@
 // 4. The best `finalists` are simulated again on the target mesh and ranked the same way; the
 //    first is the plan, its predicted_sag_m the target-mesh sag. When none is feasible the plan
 //    is the least bad one with feasible = false and the reason in its note.
+// 5. With search.refine_evaluations, the plan is refined locally on the target mesh
+//    (grasp_refinement.h); an improvement becomes the plan.
 // Deterministic for a given goal (the search seed is in the goal).
 #include <functional>
 #include <optional>
@@ -42,6 +44,9 @@ struct PlannerResult {
   std::vector<CandidateResult> ranked;  // every candidate, finalists first in their final order
   int candidates = 0, unreachable = 0, screened = 0, finalists = 0;
   int screening_triangles = 0, target_triangles = 0;
+  int refine_evaluations = 0;           // target-mesh equilibria spent refining
+  bool refined = false;                 // refinement found a better plan (ranked first)
+  double refine_seconds = 0.0;
   double screening_seconds = 0.0, final_seconds = 0.0;
 };
 

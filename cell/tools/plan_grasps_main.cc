@@ -50,9 +50,11 @@ int main(int argc, char** argv) {
     if (verbose) options.progress = [](const std::string& line) { fmt::print("{}\n", line); };
     const cell::PlannerResult r = cell::plan_grasps(goal, options);
     fmt::print("{}", cell::candidate_table(r, rows));
-    fmt::print("{} candidates, {} unreachable, {} simulated on {} triangles in {:.1f} s, {} on {} triangles in {:.1f} s\n",
+    fmt::print("{} candidates, {} unreachable, {} simulated on {} triangles in {:.1f} s, {} on {} triangles in {:.1f} s, "
+               "refinement {} on {} triangles in {:.1f} s ({})\n",
                r.candidates, r.unreachable, r.screened, r.screening_triangles, r.screening_seconds, r.finalists,
-               r.target_triangles, r.final_seconds);
+               r.target_triangles, r.final_seconds, r.refine_evaluations, r.target_triangles, r.refine_seconds,
+               r.refined ? "improved" : "no improvement");
     twin::write_grasp_plan(r.plan, out_path);
     fmt::print("{}: {}\n", out_path, r.plan.note);
     if (!shape_path.empty()) {

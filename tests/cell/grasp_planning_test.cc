@@ -215,3 +215,30 @@ TEST_CASE("2 grippers with a tight sag limit: infeasible, with the reason", "[gr
   CHECK(r.plan.predicted_sag_m > 0.10);
   CHECK_THAT(r.plan.note, Catch::StartsWith("infeasible, best sag") && Catch::Contains("> limit 0.100 m"));
 }
+
+TEST_CASE("local refinement on the target mesh never makes the plan worse and is re-simulated exactly",
+          "[grasp_planning]") {
+  nlohmann::json j = small_search_goal();
+  j["search"]["finalists"] = 1;
+  const cell::PlannerResult plain = cell::plan_grasps(goal_from(j));
+  j["search"]["refine_evaluations"] = 8;
+  const cell::GraspGoal goal = goal_from(j);
+  const cell::PlannerResult refined = cell::plan_grasps(goal);
+  INFO(refined.plan.note);
+  REQUIRE(plain.plan.feasible);
+  REQUIRE(refined.plan.feasible);
+  CHECK(refined.refine_evaluations >= 1);
+  CHECK(refined.refine_evaluations <= 8);
+  CHECK(refined.plan.predicted_sag_m <= plain.plan.predicted_sag_m);
+  CHECK(refined.refined == (refined.plan.predicted_sag_m < plain.plan.predicted_sag_m));
+  const twin::ShellModel model(goal.sheet.mesh, goal.material);
+  const cell::HangEvaluation again = cell::evaluate_plan(model, refined.plan, goal);
+  REQUIRE(again.solved);
+  CHECK(again.metrics.sag_m == Approx(refined.plan.predicted_sag_m).margin(1e-6));
+  for (const twin::Grasp& g : refined.plan.grasps) {
+    CHECK(g.clamp.material_point_m.x() >= 0.0);
+    CHECK(g.clamp.material_point_m.x() <= 1.17);
+    CHECK(g.clamp.material_point_m.y() >= 0.0);
+    CHECK(g.clamp.material_point_m.y() <= 0.975);
+  }
+}
