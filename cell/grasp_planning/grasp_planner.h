@@ -11,7 +11,7 @@
 // 4. The best `finalists` are simulated again on the target mesh and ranked the same way; the
 //    first is the plan, its predicted_sag_m the target-mesh sag. When none is feasible the plan
 //    is the least bad one with feasible = false and the reason in its note.
-// 5. With search.refine_evaluations, the plan is refined locally on the target mesh
+// 5. With search.refine_evaluations, a feasible plan is refined locally on the target mesh
 //    (grasp_refinement.h); an improvement becomes the plan.
 // Deterministic for a given goal (the search seed is in the goal).
 #include <functional>
