@@ -2,7 +2,11 @@
 // the planner on the composite ply (coarse meshes so each case stays well under 10 s).
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include "cell/grasp_planning/grasp_assignment.h"
@@ -241,4 +245,30 @@ TEST_CASE("local refinement on the target mesh never makes the plan worse and is
     CHECK(g.clamp.material_point_m.y() >= 0.0);
     CHECK(g.clamp.material_point_m.y() <= 0.975);
   }
+}
+
+TEST_CASE("plan_grasps writes a plan, scores a hand-made one and exits 0, 2 or 1", "[grasp_planning]") {
+  testing_support::TempDir dir("plan_grasps_tool");
+  nlohmann::json j = small_search_goal();
+  j["material_file"] = kExamples + "/composite_identified.json";
+  const std::string goal = (dir / "goal.json").string(), plan = (dir / "plan.json").string();
+  std::ofstream(goal) << j.dump(2);
+  const std::string tool = PLAN_GRASPS_EXE;
+  auto run = [](const std::string& command) {
+    const int status = std::system((command + " > /dev/null 2>&1").c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  CHECK(run(tool + " --goal " + goal + " --out " + plan + " --cell " + kExamples + "/fake_cell.json") == 0);
+  const twin::GraspPlan written = twin::read_grasp_plan(plan);
+  CHECK(written.feasible);
+  CHECK(written.grasps.size() == 4);
+  CHECK(std::isfinite(written.predicted_sag_m));
+  CHECK(run(tool + " --goal " + goal + " --score " + plan) == 0);
+  CHECK(run(tool + " --goal " + goal + " --score " + kExamples + "/four_grasp_plan.json") == 0);
+  j["max_sag_m"] = 0.05;
+  std::ofstream(goal) << j.dump(2);
+  CHECK(run(tool + " --goal " + goal + " --score " + kExamples + "/four_grasp_plan.json") == 2);
+  j["max_sag_m"] = "deep";
+  std::ofstream(goal) << j.dump(2);
+  CHECK(run(tool + " --goal " + goal + " --out " + plan) == 1);
 }
