@@ -117,12 +117,16 @@ CycleReport CellController::cycle() {
   }
 
   // 4. Watchdog, state, and robot commands only while it allows them.
+  // Statuses that arrived during the cycle count: they are stamped when handled.
+  handle_bus(0);
   WatchdogInputs in;
   in.cameras = cameras_.size();
   in.min_cameras = config_.cell.min_cameras;
   const std::int64_t after_us = drivers::host_clock_us();
   for (int i = 0; i < cameras_.size(); ++i) {
-    if (cameras_.fresh(i, after_us, config_.cell.camera_stale_ms)) continue;
+    // Judged at read time: a slow tracker or twin must not make a camera that just delivered
+    // look stale.
+    if (cameras_.fresh(i, now_us, config_.cell.camera_stale_ms)) continue;
     const CameraSlot& s = cameras_.slot(i);
     in.lost_cameras.push_back(s.config.name + " (" + (s.last_problem.empty() ? "no fresh frame" : s.last_problem) + ")");
   }

@@ -38,7 +38,7 @@ RigFiles default_files() {
   f.config["job"] = {{"plan_file", "plan.json"}};
   for (auto& c : f.config["cameras"]) {
     c["backend"] = "test_sim";
-    c.erase("uri");
+    c["uri"] = "";  // the scene comes from the rig, not a file
   }
   return f;
 }

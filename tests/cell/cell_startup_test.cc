@@ -36,9 +36,11 @@ TEST_CASE("start-up FAILED: an arm without IIWA_STATUS is named", "[cell]") {
 }
 
 TEST_CASE("start-up FAILED: a bad material file is named with its field", "[cell]") {
-  cell_test::RigFiles f = cell_test::default_files();
-  f.material["tensile_stiffness_N_m"] = -5;
-  cell_test::CellUnderTest t(f);
+  cell_test::CellUnderTest t(cell_test::default_files(), false, [](cell_test::CellUnderTest& c) {
+    cell_test::RigFiles f = cell_test::default_files();
+    f.material["tensile_stiffness_N_m"] = -5;  // after the rig made its truth with the good one
+    testing_support::write_file(c.dir / "material.json", f.material.dump(2));
+  });
   REQUIRE(t.controller->startup() == CellState::kFailed);
   CHECK_THAT(t.controller->reason(), Contains("material file") && Contains("material.json") &&
                                          Contains("tensile_stiffness_N_m"));
