@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +56,9 @@ int main(int argc, char** argv) {
                "step fail until the fault is cleared (without this flag SIM_FAULT is ignored)");
   app.add_flag("--quiet", quiet, "no per-second status line");
   CLI11_PARSE(app, argc, argv);
+  // The tracker's OpenMP threads must not spin between parallel regions: on a 2-core cell PC
+  // they would take the time the camera threads need (an explicit setting wins).
+  setenv("OMP_WAIT_POLICY", "passive", 0);
 
   cell::CellConfig config;
   cell::Experiment experiment;

@@ -14,7 +14,7 @@ namespace {
 // The watchdog tests need cycles, not accuracy: a sparser pixel stride keeps them fast.
 cell_test::RigFiles fast_files() {
   cell_test::RigFiles f = cell_test::default_files();
-  f.config["tracker"] = {{"fusion", {{"pixel_stride", 4}}}};
+  f.config["tracker"]["fusion"] = {{"pixel_stride", 4}};
   return f;
 }
 bool is(const cell::CycleReport& r, CellState s) { return r.state == s; }

@@ -44,6 +44,8 @@ class SimCameras {
   void kill(int i);
   void revive(int i);
   void kill_from_start(int i) { dead_from_start_.push_back(i); }
+  // The true sheet's vertices (cell frame, m), as the fake world publishes on SIM_SHEET_TRUTH.
+  const std::vector<Eigen::Vector3d>& truth() const { return scene_->meshes.front().vertices; }
 
  private:
   std::shared_ptr<const sim_hw::RenderScene> scene_;
