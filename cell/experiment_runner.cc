@@ -24,9 +24,13 @@ std::string ExperimentRunner::current() const {
 }
 
 void ExperimentRunner::on_cycle(CellController& cell, const CycleReport& report) {
-  if (done() || !may_command(report.state)) return;  // paused in SAFE_HOLD
+  // Wall time: the sheet (real or the fake world's) settles in real time, whatever the cycle
+  // rate; time in SAFE_HOLD does not count (the experiment pauses).
+  const double now = steady_s();
+  const double dt = last_cycle_s_ > 0 ? now - last_cycle_s_ : cell.period_s();
+  last_cycle_s_ = now;
+  if (done() || !may_command(report.state)) return;
   const ExperimentState& state = experiment_.states[index_];
-  const double dt = cell.period_s();
   switch (phase_) {
     case Phase::kApply:
       for (const auto& a : state.actions) {

@@ -34,7 +34,7 @@ class ExperimentRunner {
  public:
   explicit ExperimentRunner(Experiment experiment);
 
-  // After each cycle of `cell`; cycle_period_s is the cell's period.
+  // After each cycle of `cell`.
   void on_cycle(CellController& cell, const CycleReport& report);
   bool done() const { return index_ >= experiment_.states.size(); }
   const std::vector<StateResult>& results() const { return results_; }
@@ -45,7 +45,8 @@ class ExperimentRunner {
   Experiment experiment_;
   std::size_t index_ = 0;
   Phase phase_ = Phase::kApply;
-  double phase_time_s_ = 0;
+  double phase_time_s_ = 0;  // wall time in the phase, s
+  double last_cycle_s_ = 0;   // steady clock of the previous on_cycle, s
   std::vector<StateResult> results_;
 };
 
