@@ -14,7 +14,7 @@ TEST_CASE("experiment: move and release states are applied, settled and measured
   REQUIRE(t.controller->startup() == CellState::kReady);
 
   cell::Experiment e;
-  e.window_s = 0.3;
+  e.window_s = 0.5;
   e.states.push_back({"four grasps", {}, 0.4});
   cell::ExperimentAction raise{cell::ExperimentAction::Kind::kMove, "CENTER", twin::Vec3::Zero()};
   const twin::GraspPlan& plan = t.controller->plan();
@@ -36,7 +36,7 @@ TEST_CASE("experiment: move and release states are applied, settled and measured
   truth.coverage = 1.0f;
 
   const auto gripper_commands = t.responder->gripper_commands();
-  for (int i = 0; i < 120 && !runner.done(); ++i) {
+  for (int i = 0; i < 200 && !runner.done(); ++i) {
     truth.utime = drivers::utime_now();
     REQUIRE(t.bus.publish(std::string(drivers::channels::kSimTruth), truth));
     t.controller->handle_bus(0);
@@ -59,7 +59,8 @@ TEST_CASE("experiment: move and release states are applied, settled and measured
   CHECK(t.responder->gripper_commands() > gripper_commands);
   CHECK_FALSE(t.responder->holding("MANUAL"));
   CHECK(t.controller->released("MANUAL"));
-  CHECK(res[2].twin_vs_truth.max_m > 5 * res[0].twin_vs_truth.max_m);
+  CHECK(res[2].twin_vs_truth.mean_m > 0.01);
+  CHECK(res[2].twin_vs_truth.mean_m > 10 * res[0].twin_vs_truth.mean_m);
   CHECK(cell::results_json(res)["states"].size() == 3);
   WARN(cell::format_results(res));
 }
