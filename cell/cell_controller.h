@@ -35,6 +35,7 @@ struct CycleReport {
   VertexError error;          // tracked vs predicted, observed vertices (published)
   double alg1_mean_m = 0, alg1_max_m = 0;  // the paper's Algorithm 1 (points to predicted vertices)
   double tracker_ms = 0, twin_step_ms = 0, cycle_ms = 0;
+  int twin_substeps = 0;      // sub-steps the twin's step needed (1 normally)
   double latency_ms = -1;     // newest frame's arrival -> PREDICTION_ERROR published
   bool commanded = false;     // robot commands were sent this cycle
 };

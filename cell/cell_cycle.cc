@@ -103,6 +103,7 @@ CycleReport CellController::cycle() {
       const TwinStepResult r = twin_->step(period_s(), grasps);
       report.twin_step_ms = r.step_ms;
       report.twin_stepped = r.ok;
+      report.twin_substeps = r.substeps;
       if (r.ok) {
         prediction_utime_ = drivers::utime_now() + static_cast<std::int64_t>(1e6 * period_s());
       } else {

@@ -62,6 +62,8 @@ TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_
     return result;
   }
   result.step_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  result.substeps = stepper_->last_substeps();
+  result.iterations = r.iterations;
   if (!r.usable()) {
     result.message = "twin step failed: " + r.brief();
   } else if (!x.allFinite() || !v.allFinite()) {

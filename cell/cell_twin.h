@@ -21,6 +21,8 @@ struct TwinStepResult {
   bool ok = false;
   std::string message;  // why not ok
   double step_ms = 0;
+  int substeps = 0;     // > 1: the step was retried in shorter sub-steps (see implicit_stepper.h)
+  int iterations = 0;   // Newton iterations over all sub-steps
 };
 
 class CellTwin {

@@ -7,6 +7,7 @@
 //
 //   cell_controller --config CELL.json [--lcm URL] [--out DIR] [--max-seconds S]
 //                   [--no-experiment] [--exit-after-experiment] [--fault-injection] [--quiet]
+//                   [--threads N]
 //
 // Exit codes: 0 stopped on request (SIGINT/SIGTERM), after --max-seconds or after the experiment,
 // in RUNNING or DEGRADED; 1 config error (file or field named); 2 start-up FAILED (reason
@@ -16,8 +17,9 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <omp.h>
+
 #include <atomic>
-#include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -55,10 +57,14 @@ int main(int argc, char** argv) {
                "FAKE HARDWARE ONLY: obey SIM_FAULT {target \"twin\", fault \"diverge\"} by making the twin's "
                "step fail until the fault is cleared (without this flag SIM_FAULT is ignored)");
   app.add_flag("--quiet", quiet, "no per-second status line");
+  int threads = 1;
+  app.add_option("--threads", threads,
+                 "OpenMP threads of the tracker and the twin (default 1: the camera threads need the "
+                 "other core; with 2 on a busy 2-core machine the twin's step went from 1 ms to 215 ms)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
-  // The tracker's OpenMP threads must not spin between parallel regions: on a 2-core cell PC
-  // they would take the time the camera threads need (an explicit setting wins).
-  setenv("OMP_WAIT_POLICY", "passive", 0);
+  // The tracker and the twin run on this thread; their parallel regions take this many threads.
+  omp_set_num_threads(threads);
 
   cell::CellConfig config;
   cell::Experiment experiment;
@@ -100,7 +106,7 @@ int main(int argc, char** argv) {
   auto last_line = start;
   std::vector<double> latency, twin_ms;
   double error_mean = 0, error_max = 0;
-  int cycles_in_line = 0, camera_ok = 0;
+  int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
   bool experiment_printed = false;
   while (!g_stop) {
     const cell::CycleReport r = cell.cycle();
@@ -108,6 +114,7 @@ int main(int argc, char** argv) {
     ++cycles_in_line;
     if (r.latency_ms >= 0) latency.push_back(r.latency_ms);
     if (r.twin_stepped) twin_ms.push_back(r.twin_step_ms);
+    max_substeps = std::max(max_substeps, r.twin_substeps);
     if (r.tracked) {
       error_mean = r.error.mean_m;
       error_max = r.error.max_m;
@@ -117,16 +124,17 @@ int main(int argc, char** argv) {
     if (!quiet && now - last_line >= std::chrono::seconds(1)) {
       const double s = std::chrono::duration<double>(now - last_line).count();
       fmt::print("{:8.1f} s  {:<9} {:5.1f} Hz  latency p50 {:5.1f} p99 {:5.1f} ms  error mean {:5.1f} max {:5.1f} mm  "
-                 "cameras {}/{}  twin step {:4.1f} ms  {}{}{}\n",
+                 "cameras {}/{}  twin step {:4.1f} ms (sub-steps <= {})  {}{}{}\n",
                  std::chrono::duration<double>(now - start).count(), cell::to_string(r.state), cycles_in_line / s,
                  percentile(latency, 0.5), percentile(latency, 0.99), 1e3 * error_mean, 1e3 * error_max, camera_ok,
-                 config.cameras.size(), percentile(twin_ms, 0.5), runner ? runner->current() : "",
+                 config.cameras.size(), percentile(twin_ms, 0.5), max_substeps, runner ? runner->current() : "",
                  cell.reason().empty() ? "" : "  reason: ", cell.reason());
       std::fflush(stdout);
       last_line = now;
       cycles_in_line = 0;
       latency.clear();
       twin_ms.clear();
+      max_substeps = 0;
     }
     if (runner && runner->done() && !experiment_printed) {
       experiment_printed = true;
