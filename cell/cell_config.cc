@@ -1,0 +1,83 @@
+#include "cell/cell_config.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "drivers/camera_config_json.h"
+#include "tracking/tracker_config_json.h"
+#include "twin/json_field.h"
+
+namespace cell {
+namespace {
+
+std::string resolve(const std::filesystem::path& base, const std::string& file) {
+  const std::filesystem::path p(file);
+  return p.is_absolute() ? p.string() : (base / p).lexically_normal().string();
+}
+
+void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
+  f.only_keys({"lcm_url", "cycle_hz", "min_cameras", "robot_status_timeout_ms", "camera_stale_ms",
+               "startup_timeout_s", "camera_startup_timeout_s", "arm_status_timeout_s",
+               "hold_tolerance_m", "move_speed_m_s", "joint_speed_scale", "release_timeout_s"});
+  if (auto v = f.optional("lcm_url")) s.lcm_url = v->string();
+  if (auto v = f.optional("cycle_hz")) s.cycle_hz = v->positive("1/s");
+  if (auto v = f.optional("min_cameras")) s.min_cameras = v->positive_integer();
+  if (auto v = f.optional("robot_status_timeout_ms")) s.robot_status_timeout_ms = v->positive("ms");
+  if (auto v = f.optional("camera_stale_ms")) s.camera_stale_ms = v->positive("ms");
+  if (auto v = f.optional("startup_timeout_s")) s.startup_timeout_s = v->positive("s");
+  if (auto v = f.optional("camera_startup_timeout_s")) s.camera_startup_timeout_s = v->positive("s");
+  if (auto v = f.optional("arm_status_timeout_s")) s.arm_status_timeout_s = v->positive("s");
+  if (auto v = f.optional("hold_tolerance_m")) s.hold_tolerance_m = v->positive("m");
+  if (auto v = f.optional("move_speed_m_s")) {
+    s.move_speed_m_s = v->positive("m/s");
+    if (s.move_speed_m_s > 0.05) v->fail("must be at most 0.05 m/s (the experiment's speed limit)");
+  }
+  if (auto v = f.optional("joint_speed_scale")) {
+    s.joint_speed_scale = v->positive("");
+    if (s.joint_speed_scale > 1.0) v->fail("must be in (0, 1]");
+  }
+  if (auto v = f.optional("release_timeout_s")) s.release_timeout_s = v->positive("s");
+}
+
+}  // namespace
+
+CellConfig read_cell_config(const std::string& path) {
+  const nlohmann::json doc = twin::JsonField::parse_file(path);
+  const twin::JsonField root(doc, path);
+  root.only_keys({"cell", "twin", "job", "tracker", "cameras", "arms", "grippers"});
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+
+  CellConfig c;
+  c.path = path;
+  if (auto f = root.optional("cell")) read_cell_settings(*f, c.cell);
+
+  const twin::JsonField tw = root["twin"];
+  tw.only_keys({"material_file", "sheet"});
+  c.material_file = resolve(base, tw["material_file"].string());
+  c.sheet = twin::read_sheet_spec(tw["sheet"], base.string());
+  c.sheet_placement_given = tw["sheet"].has("placement");
+
+  const twin::JsonField job = root["job"];
+  job.only_keys({"plan_file", "experiment_file"});
+  c.plan_file = resolve(base, job["plan_file"].string());
+  if (auto e = job.optional("experiment_file")) c.experiment_file = resolve(base, e->string());
+
+  if (auto t = root.optional("tracker")) {
+    try {
+      c.tracker = t->is_string() ? tracking::load_tracker_config(resolve(base, t->string()))
+                                 : tracking::parse_tracker_config(t->json().dump(), path + " (tracker)");
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(path + ": field 'tracker': " + e.what());
+    }
+  }
+  c.cameras = drivers::parse_camera_configs(doc, path);
+  if (c.cameras.empty()) root.fail_child("cameras", "must list at least one camera");
+  if (c.cell.min_cameras > static_cast<int>(c.cameras.size())) {
+    root["cell"]["min_cameras"].fail("exceeds the number of cameras (" +
+                                     std::to_string(c.cameras.size()) + ")");
+  }
+  c.hardware = drivers::parse_cell_hardware(doc, path);
+  return c;
+}
+
+}  // namespace cell

@@ -1,0 +1,71 @@
+#pragma once
+// The cell config file (JSON) as the cell controller reads it. The "cameras" array belongs to
+// drivers/camera_config_json.h and "arms"/"grippers" to drivers/cell_hardware_config.h; this
+// file owns the other keys (every one optional unless marked required; unknown keys are errors):
+//   "cell": {"lcm_url": "udpm://239.255.76.67:7667?ttl=0",  (LCM provider; --lcm overrides)
+//            "cycle_hz": 15,                  (cycle rate, 1/s; the twin's dt = 1 / cycle_hz)
+//            "min_cameras": 2,                (fewer fresh cameras -> SAFE_HOLD; fewer than all
+//                                              but at least this many -> DEGRADED)
+//            "robot_status_timeout_ms": 250,  (an arm status older than this -> SAFE_HOLD, ms)
+//            "camera_stale_ms": 500,          (a camera without a good frame for this long is
+//                                              not fresh, ms)
+//            "startup_timeout_s": 30,         (the whole start-up sequence, s)
+//            "camera_startup_timeout_s": 5,   (each camera's first frame, s)
+//            "arm_status_timeout_s": 2,       (each arm's first IIWA_STATUS at start-up, s)
+//            "hold_tolerance_m": 0.02,        (a gripper must be this close to its planned
+//                                              hold position at start-up, m)
+//            "move_speed_m_s": 0.05,          (jaw speed of "move" actions, m/s, <= 0.05)
+//            "joint_speed_scale": 0.25,       (fraction of the iiwa joint velocity limits)
+//            "release_timeout_s": 2},         (no gripper status after a release command for
+//                                              this long: the twin releases anyway, s)
+//   "twin": {"material_file": "composite.json",   (required; relative to this file)
+//            "sheet": {...}},                      (required; twin/sheet_spec.h; without a
+//                                                    "placement" the flat start is centred under
+//                                                    the plan's hold positions)
+//   "job": {"plan_file": "plan.json",              (required; twin/grasp_plan.h)
+//           "experiment_file": "experiment.json"}, (optional; cell/experiment_file.h)
+//   "tracker": {...} | "tracker.json"              (optional; tracking/tracker_config_json.h,
+//                                                    inline or a file relative to this file)
+// Paths are relative to the config file's folder. Errors throw std::invalid_argument (or
+// std::runtime_error for an unreadable file) naming the file and the field.
+#include <string>
+#include <vector>
+
+#include "drivers/cell_hardware_config.h"
+#include "drivers/depth_camera.h"
+#include "tracking/sheet_tracker.h"
+#include "twin/sheet_spec.h"
+
+namespace cell {
+
+struct CellSettings {
+  std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+  double cycle_hz = 15.0;
+  int min_cameras = 2;
+  double robot_status_timeout_ms = 250.0;
+  double camera_stale_ms = 500.0;
+  double startup_timeout_s = 30.0;
+  double camera_startup_timeout_s = 5.0;
+  double arm_status_timeout_s = 2.0;
+  double hold_tolerance_m = 0.02;
+  double move_speed_m_s = 0.05;
+  double joint_speed_scale = 0.25;
+  double release_timeout_s = 2.0;
+};
+
+struct CellConfig {
+  std::string path;  // the file read
+  CellSettings cell;
+  std::string material_file;  // absolute or relative to the working directory
+  twin::SheetSpec sheet;
+  bool sheet_placement_given = false;
+  std::string plan_file;
+  std::string experiment_file;  // empty: none
+  tracking::TrackerConfig tracker;
+  std::vector<drivers::CameraConfig> cameras;
+  drivers::CellHardwareConfig hardware;
+};
+
+CellConfig read_cell_config(const std::string& path);
+
+}  // namespace cell

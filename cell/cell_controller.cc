@@ -1,0 +1,91 @@
+#include "cell/cell_controller.h"
+
+#include <chrono>
+
+#include "drivers/lcm_channels.h"
+
+namespace cell {
+
+double steady_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fault_injection)
+    : config_(std::move(config)), bus_(bus), fault_injection_(fault_injection), tracker_(config_.tracker) {
+  status_.cameras = static_cast<int>(config_.cameras.size());
+  subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sheet_state_t>(
+      std::string(drivers::channels::kSimTruth), [this](const prepreg_lcm::sheet_state_t& msg) {
+        truth_.resize(msg.num_vertices);
+        for (int i = 0; i < msg.num_vertices; ++i) truth_[i] = twin::Vec3(msg.x_m[i], msg.y_m[i], msg.z_m[i]);
+        truth_host_us_ = drivers::host_clock_us();
+      }));
+  subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sim_fault_t>(
+      std::string(drivers::channels::kSimFault), [this](const prepreg_lcm::sim_fault_t& msg) {
+        // Only fake hardware injects faults, and only the twin's are the cell's to act on.
+        if (!fault_injection_ || msg.target != "twin") return;
+        if (msg.fault != "diverge") {
+          ++faults_dropped_;  // a twin fault the cell does not know: dropped, counted
+          return;
+        }
+        if (twin_) twin_->set_poisoned(msg.active);
+        poison_requested_ = msg.active;
+      }));
+}
+
+CellController::~CellController() {
+  for (auto id : subscriptions_) bus_.unsubscribe(id);
+  robots_.reset();
+  cameras_.close();
+}
+
+void CellController::handle_bus(int ms) {
+  // handle_for dispatches everything already waiting; a zero wait only drains.
+  bus_.handle_for(std::chrono::milliseconds(ms));
+  while (bus_.handle_for(std::chrono::milliseconds(0)).messages > 0) {
+  }
+}
+
+void CellController::stop(const std::string& why) {
+  status_.state = CellState::kStopped;
+  status_.reason = why;
+  publish_state();
+  cameras_.close();
+}
+
+std::uint64_t CellController::dropped_messages() const {
+  std::uint64_t n = faults_dropped_ + (robots_ ? robots_->dropped_statuses() : 0);
+  for (auto id : subscriptions_) {
+    const drivers::BusCounters c = bus_.counters(id);
+    n += c.decode_failures + c.rejected;
+  }
+  return n;
+}
+
+bool CellController::set_goal(const std::string& gripper, const twin::Vec3& to_m) {
+  if (!robots_) return false;
+  const int g = robots_->gripper_index(gripper);
+  if (g < 0 || robots_->gripper(g).arm < 0) return false;  // the operator does not move
+  robots_->set_goal(g, to_m);
+  return true;
+}
+
+bool CellController::at_goal(const std::string& gripper) const {
+  const int g = robots_ ? robots_->gripper_index(gripper) : -1;
+  return g >= 0 && robots_->at_goal(g);
+}
+
+bool CellController::request_release(const std::string& gripper) {
+  if (!robots_ || !twin_) return false;
+  const int g = robots_->gripper_index(gripper);
+  const int k = plan_.index_of(gripper);
+  if (g < 0 || k < 0) return false;
+  releases_.push_back(Release{k, g, false, 0, false});
+  return true;
+}
+
+bool CellController::released(const std::string& gripper) const {
+  const int k = plan_.index_of(gripper);
+  return k >= 0 && twin_ && !twin_->engaged(k);
+}
+
+}  // namespace cell

@@ -1,0 +1,127 @@
+#pragma once
+// The cell controller: start-up (cell_startup.cc), then one cycle per period (cell_cycle.cc):
+//   cameras -> tracker (from the twin's prediction) -> SHEET_OBSERVED, SHEET_PREDICTED,
+//   PREDICTION_ERROR, CAMERA_STATUS_<CAM> -> twin step with the clamps at the measured grasps ->
+//   watchdog -> CELL_STATE -> robot commands (only RUNNING / DEGRADED).
+// The bus is handled on the caller's thread inside startup() and cycle(); nothing here throws
+// after construction. With fault_injection the cell obeys SIM_FAULT {target "twin", fault
+// "diverge"} by poisoning its twin steps until the fault is cleared; without it SIM_FAULT is
+// ignored (a real cell must never act on it).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cell/camera_set.h"
+#include "cell/cell_config.h"
+#include "cell/cell_messages.h"
+#include "cell/cell_twin.h"
+#include "cell/robot_link.h"
+#include "cell/watchdog.h"
+#include "drivers/lcm_bus.h"
+#include "tracking/sheet_tracker.h"
+#include "twin/grasp_plan.h"
+
+namespace cell {
+
+// What one cycle did, for the status line, the experiment and tests.
+struct CycleReport {
+  std::int64_t cycle = -1;
+  CellState state = CellState::kStarting;
+  int frames = 0;
+  bool tracked = false;       // the tracker produced a surface
+  bool twin_stepped = false;  // the twin's step succeeded (its state was published)
+  VertexError error;          // tracked vs predicted, observed vertices (published)
+  double alg1_mean_m = 0, alg1_max_m = 0;  // the paper's Algorithm 1 (points to predicted vertices)
+  double tracker_ms = 0, twin_step_ms = 0, cycle_ms = 0;
+  int twin_substeps = 0;      // sub-steps the twin's step needed (1 normally)
+  double latency_ms = -1;     // newest frame's arrival -> PREDICTION_ERROR published
+  bool commanded = false;     // robot commands were sent this cycle
+};
+
+class CellController {
+ public:
+  CellController(CellConfig config, drivers::LcmBus& bus, bool fault_injection = false);
+  ~CellController();
+  CellController(const CellController&) = delete;
+  CellController& operator=(const CellController&) = delete;
+
+  // Runs the start-up sequence; returns READY or FAILED (reason() says why). Bounded by
+  // cell.startup_timeout_s.
+  CellState startup();
+  // One cycle; call at cell.cycle_hz (after READY).
+  CycleReport cycle();
+  // Dispatches waiting LCM messages for up to `ms` (between cycles).
+  void handle_bus(int ms);
+  // Publishes STOPPED and closes the cameras.
+  void stop(const std::string& why);
+
+  CellState state() const { return status_.state; }
+  const std::string& reason() const { return status_.reason; }
+  const CellConfig& config() const { return config_; }
+  double period_s() const { return 1.0 / config_.cell.cycle_hz; }
+
+  // For the experiment: move a gripper's jaw target (straight line at the configured speed) and
+  // release a gripper (GRIPPER_COMMAND open once commands are allowed; the twin lets go when
+  // the gripper reports not holding, or after release_timeout_s without a status).
+  bool set_goal(const std::string& gripper, const twin::Vec3& to_m);
+  bool request_release(const std::string& gripper);
+  bool at_goal(const std::string& gripper) const;
+  bool released(const std::string& gripper) const;  // the twin's clamp has let go
+
+  const twin::GraspPlan& plan() const { return plan_; }
+  const CellTwin* twin() const { return twin_.get(); }
+  const tracking::TrackResult& last_track() const { return last_track_; }
+  // SIM_SHEET_TRUTH (fake hardware): the newest true sheet vertices and their host time (us).
+  const std::vector<twin::Vec3>& truth() const { return truth_; }
+  std::int64_t truth_host_us() const { return truth_host_us_; }
+  const RobotLink* robots() const { return robots_.get(); }
+  const CameraSet& cameras() const { return cameras_; }
+  std::uint64_t dropped_messages() const;  // statuses and faults dropped as malformed
+
+ private:
+  // cell_startup.cc
+  CellState fail(const std::string& why);
+  std::string open_cameras(double deadline_s);
+  std::string load_job();
+  std::string wait_for_robots(double deadline_s);
+  std::string first_track(double deadline_s);
+  // cell_cycle.cc
+  std::vector<twin::Vec3> grasp_positions() const;
+  void update_releases(std::int64_t now_us);
+  void publish_state();
+  void publish_cameras(std::int64_t now_us);
+
+  CellConfig config_;
+  drivers::LcmBus& bus_;
+  bool fault_injection_;
+  CameraSet cameras_;
+  tracking::SheetTracker tracker_;
+  twin::GraspPlan plan_;
+  twin::Material material_;
+  std::unique_ptr<CellTwin> twin_;
+  std::unique_ptr<RobotLink> robots_;
+  CellStatus status_;
+  std::int64_t next_cycle_ = 0;
+  std::string twin_problem_;  // "" while the twin is healthy
+  std::int64_t prediction_utime_ = 0;
+  tracking::TrackResult last_track_;
+  std::vector<twin::Vec3> truth_;
+  std::int64_t truth_host_us_ = 0;
+  std::uint64_t faults_dropped_ = 0;
+  bool poison_requested_ = false;  // SIM_FAULT twin diverge active (kept across re-creation)
+  struct Release {
+    int grasp = -1, gripper = -1;
+    bool commanded = false;
+    std::int64_t commanded_host_us = 0;
+    bool done = false;
+  };
+  std::vector<Release> releases_;
+  std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;
+};
+
+// Seconds on the steady clock (for deadlines).
+double steady_s();
+
+}  // namespace cell

@@ -1,0 +1,164 @@
+// CellController's cycle: cameras -> tracker -> publish -> twin step -> watchdog -> commands.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "cell/cell_controller.h"
+#include "cell/sheet_compare.h"
+#include "drivers/lcm_channels.h"
+
+namespace cell {
+namespace {
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+}  // namespace
+
+std::vector<twin::Vec3> CellController::grasp_positions() const {
+  std::vector<twin::Vec3> out;
+  for (const auto& g : plan_.grasps) {
+    const int i = robots_->gripper_index(g.gripper);
+    const auto jaw = i >= 0 ? robots_->jaw_position(i) : std::nullopt;
+    out.push_back(jaw ? *jaw : g.hold_position_m);
+  }
+  return out;
+}
+
+void CellController::publish_state() {
+  bus_.publish(std::string(drivers::channels::kCellState), cell_state(drivers::utime_now(), status_));
+}
+
+void CellController::publish_cameras(std::int64_t now_us) {
+  const std::int64_t epoch_minus_host = drivers::utime_now() - now_us;
+  for (int i = 0; i < cameras_.size(); ++i) {
+    const CameraSlot& s = cameras_.slot(i);
+    const bool stale = !cameras_.fresh(i, now_us, config_.cell.camera_stale_ms);
+    const std::int64_t last = s.last_good_host_us > 0 ? s.last_good_host_us + epoch_minus_host : 0;
+    bus_.publish(drivers::channels::camera_status(s.config.name),
+                 camera_status(drivers::utime_now(), s.config.name, cameras_.health(i), stale,
+                               s.last_status == drivers::ReadStatus::kFrozen, last));
+  }
+}
+
+void CellController::update_releases(std::int64_t now_us) {
+  for (auto& r : releases_) {
+    if (r.done || !r.commanded) continue;
+    const GripperLink& g = robots_->gripper(r.gripper);
+    const bool reported_open = g.last_status_host_us > r.commanded_host_us && !g.holding;
+    const bool no_status = g.last_status_host_us <= r.commanded_host_us &&
+                           (now_us - r.commanded_host_us) > 1e6 * config_.cell.release_timeout_s;
+    if (reported_open || no_status) {
+      twin_->release(r.grasp);
+      r.done = true;
+    }
+  }
+}
+
+CycleReport CellController::cycle() {
+  const auto t0 = std::chrono::steady_clock::now();
+  CycleReport report;
+  report.cycle = ++status_.cycle;
+  handle_bus(0);
+
+  // 1. Frames and tracking, from the twin's current prediction (when it has one).
+  std::vector<drivers::DepthFrame> frames;
+  cameras_.read_all(frames);
+  report.frames = static_cast<int>(frames.size());
+  const bool twin_ok = twin_ && twin_problem_.empty();
+  std::int64_t newest_host_us = 0;
+  for (const auto& f : frames) newest_host_us = std::max(newest_host_us, f.host_time_us);
+  const std::int64_t now_us = drivers::host_clock_us();
+  const std::int64_t epoch_minus_host = drivers::utime_now() - now_us;
+  if (twin_ok && !frames.empty()) {
+    last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), twin_->positions()));
+    report.tracker_ms = last_track_.times.total_ms;
+    report.tracked = last_track_.status == tracking::TrackStatus::kOk;
+  }
+  status_.tracker_ok = report.tracked;
+
+  // 2. Publish what the cycle saw and what the twin predicted for it.
+  if (twin_ok) {
+    bus_.publish(std::string(drivers::channels::kSheetPredicted),
+                 predicted_sheet(prediction_utime_, report.cycle, twin_->positions()));
+  }
+  if (report.tracked) {
+    const std::int64_t frames_utime = newest_host_us + epoch_minus_host;
+    bus_.publish(std::string(drivers::channels::kSheetObserved), observed_sheet(frames_utime, report.cycle, last_track_));
+    report.error = vertex_error(last_track_);
+    report.alg1_mean_m = last_track_.prediction_error.mean_m;
+    report.alg1_max_m = last_track_.prediction_error.max_m;
+    bus_.publish(std::string(drivers::channels::kPredictionError),
+                 prediction_error(drivers::utime_now(), report.cycle, frames_utime, prediction_utime_, report.error));
+    report.latency_ms = 1e-3 * static_cast<double>(drivers::host_clock_us() - newest_host_us);
+  }
+  publish_cameras(now_us);
+
+  // 3. The twin: one step with the clamps where the grippers are (measured), or, after a
+  // failure, a fresh static equilibrium there.
+  update_releases(now_us);
+  if (twin_) {
+    const std::vector<twin::Vec3> grasps = grasp_positions();
+    if (twin_problem_.empty()) {
+      const TwinStepResult r = twin_->step(period_s(), grasps);
+      report.twin_step_ms = r.step_ms;
+      report.twin_stepped = r.ok;
+      report.twin_substeps = r.substeps;
+      if (r.ok) {
+        prediction_utime_ = drivers::utime_now() + static_cast<std::int64_t>(1e6 * period_s());
+      } else {
+        twin_problem_ = r.message;
+      }
+    } else if (std::string why = twin_->initialise(grasps); why.empty()) {
+      twin_problem_.clear();
+      prediction_utime_ = drivers::utime_now();
+    } else {
+      twin_problem_ = "re-initialisation failed: " + why;
+    }
+  }
+
+  // 4. Watchdog, state, and robot commands only while it allows them.
+  // Statuses that arrived during the cycle count: they are stamped when handled.
+  handle_bus(0);
+  WatchdogInputs in;
+  in.cameras = cameras_.size();
+  in.min_cameras = config_.cell.min_cameras;
+  const std::int64_t after_us = drivers::host_clock_us();
+  for (int i = 0; i < cameras_.size(); ++i) {
+    // Judged at read time: a slow tracker or twin must not make a camera that just delivered
+    // look stale.
+    if (cameras_.fresh(i, now_us, config_.cell.camera_stale_ms)) continue;
+    const CameraSlot& s = cameras_.slot(i);
+    in.lost_cameras.push_back(s.config.name + " (" + (s.last_problem.empty() ? "no fresh frame" : s.last_problem) + ")");
+  }
+  in.twin_ok = twin_problem_.empty();
+  in.twin_problem = twin_problem_;
+  in.stale_arms = robots_->stale_arms(after_us, config_.cell.robot_status_timeout_ms);
+  in.robot_status_timeout_ms = config_.cell.robot_status_timeout_ms;
+  const WatchdogVerdict verdict = judge(in);
+  status_.state = verdict.state;
+  status_.reason = verdict.reason;
+  status_.cameras_ok = verdict.cameras_ok;
+  status_.twin_ok = verdict.twin_ok;
+  status_.robots_ok = verdict.robots_ok;
+  status_.grippers_ok = true;
+  status_.cameras_fresh = in.cameras - static_cast<int>(in.lost_cameras.size());
+  publish_state();
+  if (may_command(status_.state)) {
+    robots_->advance_targets(period_s(), config_.cell.move_speed_m_s);
+    robots_->command_arms(period_s(), config_.cell.joint_speed_scale);
+    for (auto& r : releases_) {
+      if (r.commanded) continue;
+      if (robots_->open_gripper(r.gripper)) {
+        r.commanded = true;
+        r.commanded_host_us = drivers::host_clock_us();
+      }
+    }
+    report.commanded = true;
+  }
+  report.state = status_.state;
+  report.cycle_ms = ms_between(t0, std::chrono::steady_clock::now());
+  return report;
+}
+
+}  // namespace cell

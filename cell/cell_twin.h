@@ -1,0 +1,71 @@
+#pragma once
+// The cell's digital twin of the held ply: the sheet mesh and material, one clamp per grasp of
+// the plan, a static equilibrium at start-up (and after a failure) and one linearised
+// backward-Euler step per cycle with the clamps at the measured grasp positions. Failures come
+// back as values (the cycle must not throw); a failed or non-finite step leaves the state as it
+// was and the caller publishes nothing from it.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "twin/clamp.h"
+#include "twin/grasp_plan.h"
+#include "twin/implicit_stepper.h"
+#include "twin/material.h"
+#include "twin/shell_model.h"
+#include "twin/static_solver.h"
+
+namespace cell {
+
+struct TwinStepResult {
+  bool ok = false;
+  std::string message;  // why not ok
+  double step_ms = 0;
+  int substeps = 0;     // > 1: the step was retried in shorter sub-steps (see implicit_stepper.h)
+  int iterations = 0;   // Newton iterations over all sub-steps
+};
+
+class CellTwin {
+ public:
+  // placement: where the flat sheet starts before the first static solve. Throws
+  // std::invalid_argument when the plan's grasps are not on the sheet.
+  CellTwin(const twin::SheetMesh& mesh, const twin::Material& material, const twin::GraspPlan& plan,
+           const twin::SheetPlacement& placement);
+
+  // Static equilibrium with grasp i held at grasp_positions_m[i] (released grasps ignored),
+  // from the flat placement the first time and from the last state afterwards. "" or why not.
+  std::string initialise(const std::vector<twin::Vec3>& grasp_positions_m);
+  // One dynamic step of dt_s with the clamps moved to grasp_positions_m.
+  TwinStepResult step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m);
+
+  // The clamp of grasp i lets go (the gripper opened); it does not grip again.
+  void release(int grasp);
+  bool engaged(int grasp) const { return poses_[grasp].engaged; }
+  // Fault injection (fake hardware only): while set, every step is fed non-finite clamp
+  // positions, so it fails the way a diverging solve does.
+  void set_poisoned(bool poisoned) { poisoned_ = poisoned; }
+  bool poisoned() const { return poisoned_; }
+
+  bool initialised() const { return initialised_; }
+  const twin::VecX& positions() const { return x_; }
+  const twin::SheetMesh& mesh() const { return model_->mesh(); }
+  int grasp_count() const { return clamps_.size(); }
+
+ private:
+  void set_positions(const std::vector<twin::Vec3>& grasp_positions_m);
+
+  std::unique_ptr<twin::ShellModel> model_;
+  twin::ClampSet clamps_;
+  std::vector<twin::ClampPose> poses_;
+  twin::VecX x_, v_;
+  std::unique_ptr<twin::StaticSolver> statics_;
+  std::unique_ptr<twin::ImplicitStepper> stepper_;
+  bool initialised_ = false;
+  bool poisoned_ = false;
+};
+
+// The flat start when the config gives no placement: unrotated (u along x, v along y), the
+// grasps' material points centred over their hold positions, at their mean height.
+twin::SheetPlacement placement_under_grasps(const twin::GraspPlan& plan);
+
+}  // namespace cell

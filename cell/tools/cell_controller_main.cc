@@ -1,0 +1,164 @@
+// cell_controller: the cell's controller process (issue 5). Reads the cell config, runs the
+// start-up sequence (cameras, material, grasp plan, robots, twin, first tracked frame and
+// calibration check) and then cycles at cell.cycle_hz: cameras -> tracker -> twin -> LCM
+// (SHEET_OBSERVED, SHEET_PREDICTED, PREDICTION_ERROR, CAMERA_STATUS_<CAM>, CELL_STATE) ->
+// robot commands, under the watchdog. After READY it runs the experiment file of the config's
+// job (unless --no-experiment) and prints its table. One status line per second.
+//
+//   cell_controller --config CELL.json [--lcm URL] [--out DIR] [--max-seconds S]
+//                   [--no-experiment] [--exit-after-experiment] [--fault-injection] [--quiet]
+//                   [--threads N]
+//
+// Exit codes: 0 stopped on request (SIGINT/SIGTERM), after --max-seconds or after the experiment,
+// in RUNNING or DEGRADED; 1 config error (file or field named); 2 start-up FAILED (reason
+// printed and on CELL_STATE); 3 in SAFE_HOLD when it stopped; 4 --exit-after-experiment was
+// given but the experiment did not finish within --max-seconds.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <omp.h>
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "cell/cell_config.h"
+#include "cell/cell_controller.h"
+#include "cell/experiment_runner.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * v.size()))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"The prepreg layup cell's controller: start-up, per-cycle tracking and twin, robots"};
+  std::string config_path, lcm_url, out_dir;
+  double max_seconds = 0;
+  bool no_experiment = false, exit_after = false, fault_injection = false, quiet = false;
+  app.add_option("--config", config_path, "cell config JSON (cell, twin, job, tracker, cameras, arms, grippers)")->required();
+  app.add_option("--lcm", lcm_url, "LCM URL (default: the config's cell.lcm_url)");
+  app.add_option("--out", out_dir, "write DIR/experiment.json here");
+  app.add_option("--max-seconds", max_seconds, "stop after this many seconds of cycling (0: until signalled)");
+  app.add_flag("--no-experiment", no_experiment, "do not run the config's experiment; hold the ply");
+  app.add_flag("--exit-after-experiment", exit_after, "stop when the experiment is done");
+  app.add_flag("--fault-injection", fault_injection,
+               "FAKE HARDWARE ONLY: obey SIM_FAULT {target \"twin\", fault \"diverge\"} by making the twin's "
+               "step fail until the fault is cleared (without this flag SIM_FAULT is ignored)");
+  app.add_flag("--quiet", quiet, "no per-second status line");
+  int threads = 1;
+  app.add_option("--threads", threads,
+                 "OpenMP threads of the tracker and the twin (default 1: the camera threads need the "
+                 "other core; with 2 on a busy 2-core machine the twin's step went from 1 ms to 215 ms)")
+      ->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  // The tracker and the twin run on this thread; their parallel regions take this many threads.
+  omp_set_num_threads(threads);
+
+  cell::CellConfig config;
+  cell::Experiment experiment;
+  try {
+    config = cell::read_cell_config(config_path);
+    if (!lcm_url.empty()) config.cell.lcm_url = lcm_url;
+    if (!no_experiment && !config.experiment_file.empty()) experiment = cell::read_experiment(config.experiment_file);
+    if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cell_controller: config error: {}\n", e.what());
+    return 1;
+  }
+  std::unique_ptr<drivers::LcmBus> bus;
+  try {
+    bus = std::make_unique<drivers::LcmBus>(config.cell.lcm_url);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "cell_controller: config error: {}\n", e.what());
+    return 1;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  cell::CellController cell(config, *bus, fault_injection);
+  fmt::print("cell_controller: STARTING ({} cameras, {} arms, LCM {})\n", config.cameras.size(),
+             config.hardware.arms.size(), config.cell.lcm_url);
+  std::fflush(stdout);
+  if (cell.startup() != cell::CellState::kReady) {
+    fmt::print("cell_controller: FAILED: {}\n", cell.reason());
+    return 2;
+  }
+  fmt::print("cell_controller: READY\n");
+  std::fflush(stdout);
+
+  std::optional<cell::ExperimentRunner> runner;
+  if (!experiment.states.empty()) runner.emplace(experiment);
+  const auto period = std::chrono::duration<double>(cell.period_s());
+  const auto start = std::chrono::steady_clock::now();
+  auto next = start;
+  auto last_line = start;
+  std::vector<double> latency, twin_ms;
+  double error_mean = 0, error_max = 0;
+  int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
+  bool experiment_printed = false;
+  while (!g_stop) {
+    const cell::CycleReport r = cell.cycle();
+    if (runner) runner->on_cycle(cell, r);
+    ++cycles_in_line;
+    if (r.latency_ms >= 0) latency.push_back(r.latency_ms);
+    if (r.twin_stepped) twin_ms.push_back(r.twin_step_ms);
+    max_substeps = std::max(max_substeps, r.twin_substeps);
+    if (r.tracked) {
+      error_mean = r.error.mean_m;
+      error_max = r.error.max_m;
+    }
+    camera_ok = r.frames;
+    const auto now = std::chrono::steady_clock::now();
+    if (!quiet && now - last_line >= std::chrono::seconds(1)) {
+      const double s = std::chrono::duration<double>(now - last_line).count();
+      fmt::print("{:8.1f} s  {:<9} {:5.1f} Hz  latency p50 {:5.1f} p99 {:5.1f} ms  error mean {:5.1f} max {:5.1f} mm  "
+                 "cameras {}/{}  twin step {:4.1f} ms (sub-steps <= {})  {}{}{}\n",
+                 std::chrono::duration<double>(now - start).count(), cell::to_string(r.state), cycles_in_line / s,
+                 percentile(latency, 0.5), percentile(latency, 0.99), 1e3 * error_mean, 1e3 * error_max, camera_ok,
+                 config.cameras.size(), percentile(twin_ms, 0.5), max_substeps, runner ? runner->current() : "",
+                 cell.reason().empty() ? "" : "  reason: ", cell.reason());
+      std::fflush(stdout);
+      last_line = now;
+      cycles_in_line = 0;
+      latency.clear();
+      twin_ms.clear();
+      max_substeps = 0;
+    }
+    if (runner && runner->done() && !experiment_printed) {
+      experiment_printed = true;
+      fmt::print("\nexperiment ({}):\n{}\n", config.experiment_file, cell::format_results(runner->results()));
+      if (!out_dir.empty()) {
+        std::ofstream(std::filesystem::path(out_dir) / "experiment.json") << cell::results_json(runner->results()).dump(2) << "\n";
+      }
+      if (exit_after) break;
+    }
+    if (max_seconds > 0 && std::chrono::duration<double>(now - start).count() >= max_seconds) break;
+    // Sleep to the next period while dispatching LCM; a late cycle starts the next at once.
+    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+    if (next < std::chrono::steady_clock::now()) next = std::chrono::steady_clock::now();
+    while (!g_stop) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(next - std::chrono::steady_clock::now());
+      if (left.count() <= 0) break;
+      cell.handle_bus(static_cast<int>(left.count()));
+    }
+  }
+  const cell::CellState final_state = cell.state();
+  cell.stop(g_stop ? "stopped by signal" : "stopped");
+  fmt::print("cell_controller: STOPPED (was {}; {} malformed messages dropped)\n", cell::to_string(final_state),
+             cell.dropped_messages());
+  if (final_state == cell::CellState::kSafeHold) return 3;
+  if (exit_after && runner && !runner->done()) return 4;
+  return 0;
+}

@@ -1,0 +1,102 @@
+// Cell config and experiment file reading, and the watchdog's rules on their own.
+#include <catch2/catch.hpp>
+
+#include "cell/cell_config.h"
+#include "cell/experiment_file.h"
+#include "cell/watchdog.h"
+#include "tests/cell/cell_rig.h"
+
+using Catch::Matchers::Contains;
+
+TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cell]") {
+  const std::string examples = std::string(PREPREG_SOURCE_DIR) + "/cell/examples/";
+  const cell::CellConfig c = cell::read_cell_config(examples + "fake_cell.json");
+  CHECK(c.cameras.size() == 3);
+  CHECK(c.hardware.arms.size() == 3);
+  CHECK(c.cell.cycle_hz == 15);
+  CHECK(c.cell.min_cameras == 2);
+  CHECK(c.material_file == examples + "composite_identified.json");
+  CHECK(c.plan_file == examples + "four_grasp_plan.json");
+  CHECK(c.experiment_file == examples + "four_grasp_experiment.json");
+  CHECK_FALSE(c.sheet_placement_given);
+  const cell::Experiment e = cell::read_experiment(c.experiment_file);
+  REQUIRE(e.states.size() == 4);
+  CHECK(e.states[1].actions.at(0).kind == cell::ExperimentAction::Kind::kRelease);
+  CHECK(e.states[1].actions.at(0).gripper == "MANUAL");
+  CHECK(e.states[2].actions.at(0).kind == cell::ExperimentAction::Kind::kMove);
+  CHECK(e.states[2].actions.at(0).to_m.z() == Approx(1.15));
+  CHECK(e.states[3].settle_s == 6.0);
+}
+
+TEST_CASE("cell config errors name the file and the field", "[cell]") {
+  testing_support::TempDir dir("cell_config");
+  cell_test::RigFiles f = cell_test::default_files();
+  SECTION("unknown key in cell") {
+    f.config["cell"]["cycle_rate"] = 10;
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("cell.json") && Contains("cycle_rate"));
+  }
+  SECTION("negative cycle rate") {
+    f.config["cell"]["cycle_hz"] = -1;
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("cell.cycle_hz"));
+  }
+  SECTION("missing plan") {
+    f.config["job"].erase("plan_file");
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("job.plan_file") && Contains("missing"));
+  }
+  SECTION("more cameras required than configured") {
+    f.config["cell"]["min_cameras"] = 4;
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("min_cameras"));
+  }
+  SECTION("move speed above the experiment's limit") {
+    f.config["cell"]["move_speed_m_s"] = 0.2;
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("move_speed_m_s"));
+  }
+}
+
+TEST_CASE("experiment file errors name the field", "[cell]") {
+  testing_support::TempDir dir("cell_experiment");
+  testing_support::write_file(dir / "e.json", R"({"states": [{"name": "a", "actions": [{"lift": "LEFT"}]}]})");
+  CHECK_THROWS_WITH(cell::read_experiment((dir / "e.json").string()), Contains("states[0].actions[0]"));
+  testing_support::write_file(dir / "e.json", R"({"states": [{"name": "a", "actions": [{"move": "LEFT"}]}]})");
+  CHECK_THROWS_WITH(cell::read_experiment((dir / "e.json").string()), Contains("to_m"));
+}
+
+TEST_CASE("watchdog: cameras, twin and arms decide the state", "[cell]") {
+  cell::WatchdogInputs in;
+  in.cameras = 3;
+  in.min_cameras = 2;
+  in.robot_status_timeout_ms = 250;
+  CHECK(cell::judge(in).state == cell::CellState::kRunning);
+  CHECK(cell::judge(in).reason.empty());
+
+  in.lost_cameras = {"cam_left (lost)"};
+  auto v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kDegraded);
+  CHECK_THAT(v.reason, Contains("cam_left"));
+  CHECK(cell::may_command(v.state));
+
+  in.lost_cameras.push_back("cam_right (timeout)");
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kSafeHold);
+  CHECK_THAT(v.reason, Contains("1 of 3 cameras") && Contains("cam_right"));
+  CHECK_FALSE(cell::may_command(v.state));
+
+  in.lost_cameras.clear();
+  in.twin_ok = false;
+  in.twin_problem = "twin step gave non-finite positions";
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kSafeHold);
+  CHECK_THAT(v.reason, Contains("twin failure: twin step gave non-finite"));
+
+  in.twin_ok = true;
+  in.stale_arms = {"CENTER"};
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kSafeHold);
+  CHECK_THAT(v.reason, Contains("no arm status within 250 ms from CENTER"));
+  CHECK_FALSE(v.robots_ok);
+}

@@ -1,0 +1,198 @@
+// The running cell: cycles publish the four channels and command the arms; the watchdog moves
+// to DEGRADED / SAFE_HOLD (no robot commands) and back; malformed messages are dropped and counted.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "drivers/iiwa_lcm.h"
+#include "tests/cell/cell_fixture.h"
+
+using Catch::Matchers::Contains;
+using cell::CellState;
+
+namespace {
+// The watchdog tests need cycles, not accuracy: a sparser pixel stride keeps them fast.
+cell_test::RigFiles fast_files() {
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["tracker"]["fusion"] = {{"pixel_stride", 4}};
+  return f;
+}
+bool is(const cell::CycleReport& r, CellState s) { return r.state == s; }
+}  // namespace
+
+TEST_CASE("cycles publish observed, predicted, error, camera status and commands", "[cell]") {
+  cell_test::CellUnderTest t(cell_test::default_files());
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  std::vector<double> twin_ms, tracker_ms, cycle_ms;
+  const int cycles = 8;
+  for (int i = 0; i < cycles; ++i) {
+    const cell::CycleReport r = t.run(1);
+    CHECK(r.state == CellState::kRunning);
+    CHECK(r.frames == 3);
+    CHECK(r.tracked);
+    CHECK(r.twin_stepped);
+    twin_ms.push_back(r.twin_step_ms);
+    tracker_ms.push_back(r.tracker_ms);
+    cycle_ms.push_back(r.cycle_ms);
+  }
+  auto& n = t.listener.count;
+  CHECK(n["SHEET_OBSERVED"] == cycles);
+  CHECK(n["SHEET_PREDICTED"] == cycles);
+  CHECK(n["PREDICTION_ERROR"] == cycles);
+  CHECK(n["CAMERA_STATUS_CAM_FRONT"] == cycles);
+  CHECK(n["CAMERA_STATUS_CAM_LEFT"] == cycles);
+  CHECK(n["CAMERA_STATUS_CAM_RIGHT"] == cycles);
+  const int vertices = t.controller->twin()->mesh().vertex_count();
+  CHECK(t.listener.last_predicted.num_vertices == vertices);
+  CHECK(t.listener.last_observed.num_observed_flags == vertices);
+  CHECK(t.listener.last_observed.coverage > 0.8);
+  const auto& e = t.listener.last_error;
+  CHECK(e.num_vertex_errors == vertices);
+  CHECK(e.num_compared > vertices / 2);
+  // The twin predicts the sheet the cameras render (same model, same start): what is left is
+  // the tracker's error against depth noise (mm).
+  CHECK(e.mean_m < 0.01);
+  CHECK(e.frames_utime <= e.utime);
+  CHECK(t.listener.last_state.state == prepreg_lcm::cell_state_t::STATE_RUNNING);
+  CHECK(t.listener.last_state.num_cameras_ok == 3);
+  CHECK(t.responder->commands("LEFT") >= cycles - 1);
+  CHECK(t.responder->commands("CENTER") >= cycles - 1);
+  std::sort(twin_ms.begin(), twin_ms.end());
+  std::sort(tracker_ms.begin(), tracker_ms.end());
+  std::sort(cycle_ms.begin(), cycle_ms.end());
+  WARN("median per cycle: twin step " << twin_ms[cycles / 2] << " ms, tracker " << tracker_ms[cycles / 2] << " ms, whole cycle "
+                                      << cycle_ms[cycles / 2] << " ms (" << vertices << " twin vertices)");
+}
+
+TEST_CASE("watchdog: one camera dead -> DEGRADED, two -> SAFE_HOLD without commands, back -> RUNNING",
+          "[cell]") {
+  cell_test::CellUnderTest t(fast_files());
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  REQUIRE(is(t.run(2), CellState::kRunning));
+
+  t.cameras->kill(1);
+  cell::CycleReport r = t.run(30, [](const auto& r) { return is(r, CellState::kDegraded); });
+  REQUIRE(r.state == CellState::kDegraded);
+  CHECK_THAT(t.controller->reason(), Contains("cam_left"));
+  CHECK(r.commanded);  // two cameras are enough to go on
+
+  t.cameras->kill(2);
+  r = t.run(30, [](const auto& r) { return is(r, CellState::kSafeHold); });
+  REQUIRE(r.state == CellState::kSafeHold);
+  CHECK_THAT(t.controller->reason(), Contains("cam_left") && Contains("cam_right"));
+  const auto commands = t.responder->all_commands();
+  r = t.run(5);
+  CHECK(r.state == CellState::kSafeHold);
+  CHECK_FALSE(r.commanded);
+  CHECK(t.responder->all_commands() == commands);
+  CHECK(t.listener.last_state.state == prepreg_lcm::cell_state_t::STATE_SAFE_HOLD);
+
+  t.cameras->revive(1);
+  t.cameras->revive(2);
+  r = t.run(40, [](const auto& r) { return is(r, CellState::kRunning); });
+  REQUIRE(r.state == CellState::kRunning);
+  t.run(1);
+  CHECK(t.responder->all_commands() > commands);
+}
+
+TEST_CASE("watchdog: an arm whose status stops -> SAFE_HOLD naming it, then recovery", "[cell]") {
+  cell_test::CellUnderTest t(fast_files());
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  REQUIRE(is(t.run(2), CellState::kRunning));
+  t.responder->silence("RIGHT", true);
+  cell::CycleReport r = t.run(20, [](const auto& r) { return is(r, CellState::kSafeHold); });
+  REQUIRE(r.state == CellState::kSafeHold);
+  CHECK_THAT(t.controller->reason(), Contains("no arm status within 250 ms from RIGHT"));
+  const auto commands = t.responder->all_commands();
+  CHECK_FALSE(t.run(3).commanded);
+  CHECK(t.responder->all_commands() == commands);
+  t.responder->silence("RIGHT", false);
+  r = t.run(10, [](const auto& r) { return is(r, CellState::kRunning); });
+  CHECK(r.state == CellState::kRunning);
+}
+
+TEST_CASE("watchdog: SIM_FAULT twin diverge -> SAFE_HOLD only with fault injection, then recovery", "[cell]") {
+  auto fault = [](drivers::LcmBus& bus, bool active) {
+    prepreg_lcm::sim_fault_t f{};
+    f.utime = drivers::utime_now();
+    f.target = "twin";
+    f.fault = "diverge";
+    f.active = active;
+    REQUIRE(bus.publish(std::string(drivers::channels::kSimFault), f));
+  };
+  SECTION("without --fault-injection the cell ignores it") {
+    cell_test::CellUnderTest t(fast_files(), false);
+    REQUIRE(t.controller->startup() == CellState::kReady);
+    fault(t.bus, true);
+    const cell::CycleReport r = t.run(3);
+    INFO("state " << cell::to_string(r.state) << ": " << t.controller->reason());
+    CHECK(r.state == CellState::kRunning);
+    CHECK(r.twin_stepped);
+  }
+  SECTION("with --fault-injection the twin step fails and nothing of it is published") {
+    cell_test::CellUnderTest t(fast_files(), true);
+    REQUIRE(t.controller->startup() == CellState::kReady);
+    REQUIRE(is(t.run(2), CellState::kRunning));
+    fault(t.bus, true);
+    cell::CycleReport r = t.run(3, [](const auto& r) { return is(r, CellState::kSafeHold); });
+    REQUIRE(r.state == CellState::kSafeHold);
+    CHECK_FALSE(r.twin_stepped);
+    CHECK_THAT(t.controller->reason(), Contains("twin failure"));
+    const int predicted = t.listener.count["SHEET_PREDICTED"];
+    const auto commands = t.responder->all_commands();
+    r = t.run(3);
+    CHECK(r.state == CellState::kSafeHold);
+    CHECK(t.listener.count["SHEET_PREDICTED"] == predicted);
+    CHECK(t.responder->all_commands() == commands);
+    fault(t.bus, false);
+    r = t.run(5, [](const auto& r) { return is(r, CellState::kRunning); });
+    CHECK(r.state == CellState::kRunning);
+    t.run(1);
+    CHECK(t.listener.count["SHEET_PREDICTED"] > predicted);
+    for (float z : t.listener.last_predicted.z_m) REQUIRE(std::isfinite(z));
+  }
+}
+
+TEST_CASE("malformed arm status and fault messages are dropped and counted, never acted on", "[cell]") {
+  cell_test::CellUnderTest t(fast_files(), true);
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  REQUIRE(is(t.run(1), CellState::kRunning));
+  const auto dropped = t.controller->dropped_messages();
+  // LEFT's driver goes quiet so that only the bad statuses arrive on its channel.
+  t.responder->silence("LEFT", true);
+  t.controller->handle_bus(20);
+  const drivers::JointVector measured = *t.controller->robots()->arm(0).measured_rad;
+  const auto statuses = t.controller->robots()->arm(0).statuses;
+  // Six joints, a NaN joint, bytes that are no status at all, a fault with a count lie.
+  drivers::JointVector q = drivers::JointVector::Zero();
+  lcmt_iiwa_status six = drivers::make_iiwa_status(drivers::utime_now(), q, q, q);
+  for (auto* v : {&six.joint_position_measured, &six.joint_velocity_estimated, &six.joint_position_commanded,
+                  &six.joint_position_ipo, &six.joint_torque_measured, &six.joint_torque_commanded,
+                  &six.joint_torque_external}) {
+    v->resize(6);
+  }
+  six.num_joints = 6;
+  REQUIRE(t.bus.publish("IIWA_STATUS_LEFT", six));
+  lcmt_iiwa_status bad = drivers::make_iiwa_status(drivers::utime_now(), q, q, q);
+  bad.joint_position_measured[2] = std::nan("");
+  t.bus.publish("IIWA_STATUS_LEFT", bad);  // may be refused already on publishing; then raw below
+  const std::uint8_t junk[7] = {1, 2, 3, 4, 5, 6, 7};
+  REQUIRE(t.bus.publish_raw("IIWA_STATUS_LEFT", junk, sizeof junk));
+  REQUIRE(t.bus.publish_raw("SIM_FAULT", junk, sizeof junk));
+  prepreg_lcm::sim_fault_t unknown{};
+  unknown.target = "twin";
+  unknown.fault = "melt";
+  unknown.active = true;
+  // The bus refuses to publish it, so it goes out raw: the cell's side must drop it too.
+  CHECK_FALSE(t.bus.publish("SIM_FAULT", unknown));
+  std::vector<std::uint8_t> bytes(unknown.getEncodedSize());
+  REQUIRE(unknown.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
+  REQUIRE(t.bus.publish_raw("SIM_FAULT", bytes.data(), bytes.size()));
+  t.controller->handle_bus(0);
+  CHECK(t.controller->dropped_messages() >= dropped + 4);
+  CHECK(t.controller->robots()->arm(0).malformed >= 1);
+  CHECK(t.controller->robots()->arm(0).statuses == statuses);  // none of them counted as a status
+  CHECK(*t.controller->robots()->arm(0).measured_rad == measured);
+  t.responder->silence("LEFT", false);
+  CHECK(is(t.run(2), CellState::kRunning));
+}
