@@ -41,12 +41,6 @@ std::string tail(const fs::path& file, std::size_t bytes = 3000) {
   return text.size() > bytes ? text.substr(text.size() - bytes) : text;
 }
 
-const char* state_name(int state) {
-  static const char* const kNames[] = {"STARTING", "READY", "RUNNING", "DEGRADED",
-                                       "SAFE_HOLD", "FAILED", "STOPPED"};
-  return state >= 0 && state <= 6 ? kNames[state] : "?";
-}
-
 // What the test has seen on the bus, with arrival times.
 struct BusLog {
   int state = -1;
@@ -97,7 +91,7 @@ class FakeCell {
     cell_ = std::make_unique<ChildProcess>(
         CELL_CONTROLLER_EXE,
         std::vector<std::string>{"--config", kCellConfig, "--lcm", drivers::kLoopbackLcmUrl, "--out",
-                                 dir_.path().string(), "--fault-injection"},
+                                 dir_.str(), "--fault-injection"},
         env, (dir_ / "cell.log").string());
   }
 
