@@ -13,6 +13,7 @@
 // in RUNNING or DEGRADED; 1 config error (file or field named); 2 start-up FAILED (reason
 // printed and on CELL_STATE); 3 in SAFE_HOLD when it stopped; 4 --exit-after-experiment was
 // given but the experiment did not finish within --max-seconds.
+#include <cstdio>
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -43,6 +44,7 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // status lines reach a log file as they happen
   CLI::App app{"The prepreg layup cell's controller: start-up, per-cycle tracking and twin, robots"};
   std::string config_path, lcm_url, out_dir;
   double max_seconds = 0;

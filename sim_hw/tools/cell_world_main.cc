@@ -10,6 +10,7 @@
 // --max-seconds; 1 bad config or a start-up failure (the message says which file and field, or
 // which gripper's hold position is unreachable).
 
+#include <cstdio>
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -64,6 +65,7 @@ std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // status lines reach a log file as they happen
   // OpenMP threads that wait by spinning steal the cores the cameras, the physics and the cell
   // process need; libgomp reads the policy when it loads, so set it and start again once.
   if (!std::getenv("OMP_WAIT_POLICY")) {
