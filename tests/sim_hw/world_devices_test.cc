@@ -193,7 +193,7 @@ TEST_CASE("world config: errors name the file and the field", "[world]") {
   CHECK(c.plan.grasps.size() == 4);
   CHECK(c.material.tensile_stiffness_u_N_m == 6000);
   CHECK(c.cameras[0].config.backend == "simulated");
-  CHECK(c.cameras[0].config.camera_to_cell.translation().x() == Approx(0.004));  // the true pose
+  CHECK(c.cameras[0].config.camera_to_cell.translation().x() == Approx(0.001));  // the true pose
 
   world_test::WorldEdits e;
   e.world = [](nlohmann::json& w) { w["cameras"][1]["nois"] = nlohmann::json::object(); };
