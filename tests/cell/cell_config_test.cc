@@ -13,7 +13,7 @@ TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cel
   const cell::CellConfig c = cell::read_cell_config(examples + "fake_cell.json");
   CHECK(c.cameras.size() == 3);
   CHECK(c.hardware.arms.size() == 3);
-  CHECK(c.cell.cycle_hz == 15);
+  CHECK(c.cell.cycle_hz == 10);
   CHECK(c.cell.min_cameras == 2);
   CHECK(c.material_file == examples + "composite_identified.json");
   CHECK(c.plan_file == examples + "four_grasp_plan.json");
