@@ -19,7 +19,7 @@ DriverResult ReplayDepthCamera::configure(const CameraConfig& config) {
   }
   const std::filesystem::path dir = config.uri.substr(0, hash);
   std::string name = config.uri.substr(hash + 1);
-  fast_ = loop_ = rebase_ = false;
+  fast_ = loop_ = rebase_ = live_ = false;
   if (const auto q = name.find('?'); q != std::string::npos) {
     std::istringstream options(name.substr(q + 1));
     name.resize(q);
@@ -28,7 +28,8 @@ DriverResult ReplayDepthCamera::configure(const CameraConfig& config) {
       else if (opt == "pace=recorded") fast_ = false;
       else if (opt == "loop=1" || opt == "loop=0") loop_ = opt == "loop=1";
       else if (opt == "rebase=1" || opt == "rebase=0") rebase_ = opt == "rebase=1";
-      else return DriverResult::failure(fmt::format("{}: unknown uri option '{}'; expected pace=recorded|fast, loop=0|1, rebase=0|1", who, opt));
+      else if (opt == "live=1" || opt == "live=0") live_ = opt == "live=1";
+      else return DriverResult::failure(fmt::format("{}: unknown uri option '{}'; expected pace=recorded|fast, loop=0|1, rebase=0|1, live=0|1", who, opt));
     }
   }
   try {
@@ -73,6 +74,8 @@ DriverResult ReplayDepthCamera::activate() {
   if (!configured_) return DriverResult::failure("replay camera: activate() before configure()");
   next_ = 0;
   have_last_ = false;
+  pass_sequence_ = 0;
+  pass_device_us_ = 0;
   start_ = std::chrono::steady_clock::now();
   start_us_ = host_clock_us();
   offset_us_ = index_.front().host_time_us;
@@ -103,8 +106,8 @@ bool ReplayDepthCamera::load(std::size_t i, DepthFrame& f) {
     return false;
   }
   f.camera = config_.name;
-  f.sequence = e.sequence;
-  f.device_time_us = e.device_time_us;
+  f.sequence = e.sequence + pass_sequence_;
+  f.device_time_us = e.device_time_us + pass_device_us_;
   f.host_time_us = rebase_ ? start_us_ + (e.host_time_us - offset_us_) : e.host_time_us;
   f.depth_intrinsics = camera_.depth_intrinsics;
   f.color_intrinsics = e.color_file.empty() ? Intrinsics{} : camera_.color_intrinsics;
@@ -135,7 +138,17 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
       start_us_ = host_clock_us();
       offset_us_ = index_.front().host_time_us;
       next_ = 0;
-      have_last_ = false;
+      if (live_) {
+        // live=1: the next pass continues the sequence and the device clock (one frame period
+        // after the last frame), so a frame monitor sees one unbroken stream.
+        const SessionIndexEntry &first = index_.front(), &last = index_.back();
+        const std::int64_t span_us = last.device_time_us - first.device_time_us;
+        const std::int64_t n = static_cast<std::int64_t>(index_.size());
+        pass_sequence_ += last.sequence + 1 - first.sequence;
+        pass_device_us_ += span_us + (n > 1 ? span_us / (n - 1) : 33333);
+      } else {
+        have_last_ = false;
+      }
     }
     if (!fast_) {
       const auto due = start_ + std::chrono::microseconds(index_[next_].host_time_us - offset_us_);
@@ -145,6 +158,12 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
         return ReadStatus::kTimeout;
       }
       std::this_thread::sleep_until(due);
+      // live=1: a late reader gets the newest frame already due, as from a live camera whose
+      // driver overwrote the older buffers (the skipped ones show as a sequence gap = dropped).
+      const auto now = std::chrono::steady_clock::now();
+      while (live_ && next_ + 1 < index_.size() &&
+             start_ + std::chrono::microseconds(index_[next_ + 1].host_time_us - offset_us_) <= now)
+        ++next_;
     }
     const std::size_t i = next_++;
     if (load(i, frame)) break;

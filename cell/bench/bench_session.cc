@@ -66,7 +66,7 @@ cell::CellConfig bench_cell_config(const std::string& cell_config_path, const st
   for (nlohmann::json& c : j.at("cameras")) {
     const std::string name = c.at("name").get<std::string>();
     c["backend"] = "replay";
-    c["uri"] = std::filesystem::absolute(session).string() + "#" + name + "?pace=recorded&loop=1&rebase=1";
+    c["uri"] = std::filesystem::absolute(session).string() + "#" + name + "?pace=recorded&loop=1&rebase=1&live=1";
     c["depth_mode"]["fps"] = kCameraFps;
     c["color_mode"]["fps"] = kCameraFps;
   }

@@ -28,7 +28,7 @@ void record_session(const sim_hw::WorldConfig& world, const sim_hw::TrueSheet& s
 
 // Writes `work_dir`/bench_cell.json: the cell config at `cell_config_path` with cell.lcm_url
 // memq://, cell.cycle_hz = hz, twin.sheet.target_triangles = triangles, no experiment, and each
-// camera replaced by "<session>#<name>?pace=recorded&loop=1&rebase=1" at kCameraFps (its
+// camera replaced by "<session>#<name>?pace=recorded&loop=1&rebase=1&live=1" at kCameraFps (its
 // calibration kept: the cell uses its own camera poses, not the world's true ones). Returns it
 // read back (read_cell_config: errors name the file and field).
 cell::CellConfig bench_cell_config(const std::string& cell_config_path, const std::filesystem::path& session,

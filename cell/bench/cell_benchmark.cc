@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
       if (phase != "still") phases.push_back("moving");
       const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / hz));
       const auto run_start = Clock::now();
+      cell::CellState last_state = cell::CellState::kReady;
       for (const std::string& name : phases) {
         const int grasp = name == "moving" ? moving_grasp(cell) : -1;
         const std::string gripper = grasp >= 0 ? cell.plan().grasps[grasp].gripper : "";
@@ -128,6 +129,11 @@ int main(int argc, char** argv) {
             figures.count_sweep();
           }
           const cell::CycleReport r = cell.cycle();
+          if (r.state != last_state) {  // say why the cell left RUNNING (the figures include it)
+            fmt::print("state: {} at t={:.2f} s{}{}\n", cell::to_string(r.state), since(run_start),
+                       cell.reason().empty() ? "" : ": ", cell.reason());
+            last_state = r.state;
+          }
           if (since(phase_start) >= warmup_s) figures.add(r);
           memory.poll(since(run_start));
           next += period;

@@ -57,7 +57,8 @@ std::string CycleFigures::verdict(double target_hz) const {
   if (rate_ok && latency_ok) return s + "met";
   s += "NOT met:";
   if (!rate_ok) s += fmt::format(" rate {:.1f} Hz is {:.1f} Hz short;", rate, target_hz - rate);
-  if (!latency_ok) s += fmt::format(" latency p99 {:.1f} ms is {:.1f} ms over;", p99, p99 - kLatencyTargetP99Ms);
+  if (latency_ms_.empty()) s += " no latency measured (no frame led to a published error);";
+  else if (!latency_ok) s += fmt::format(" latency p99 {:.1f} ms is {:.1f} ms over;", p99, p99 - kLatencyTargetP99Ms);
   const double tracker = percentile(tracker_ms_, 0.5), twin = percentile(twin_ms_, 0.5);
   return s + fmt::format(" dominant stage: {} (medians tracker {:.1f} ms, twin step {:.1f} ms, cycle budget {:.1f} ms)",
                          tracker >= twin ? "tracker" : "twin", tracker, twin, 1e3 / target_hz);
