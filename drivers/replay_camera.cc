@@ -76,6 +76,12 @@ DriverResult ReplayDepthCamera::activate() {
   have_last_ = false;
   pass_sequence_ = 0;
   pass_device_us_ = 0;
+  {
+    // One pass of a loop (live=1): the recorded span plus one mean frame period (host clock, us).
+    const std::int64_t span = index_.back().host_time_us - index_.front().host_time_us;
+    const auto n = static_cast<std::int64_t>(index_.size());
+    pass_host_us_ = span + (n > 1 ? span / (n - 1) : 33333);
+  }
   start_ = std::chrono::steady_clock::now();
   start_us_ = host_clock_us();
   offset_us_ = index_.front().host_time_us;
@@ -117,6 +123,12 @@ bool ReplayDepthCamera::load(std::size_t i, DepthFrame& f) {
   return true;
 }
 
+std::int64_t ReplayDepthCamera::pass_device_us() const {
+  const std::int64_t span = index_.back().device_time_us - index_.front().device_time_us;
+  const auto n = static_cast<std::int64_t>(index_.size());
+  return span + (n > 1 ? span / (n - 1) : 33333);
+}
+
 ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
   if (!active_) return ReadStatus::kNotActive;
   const auto timeout = config_.read_timeout;
@@ -132,38 +144,45 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
         health_.message = fmt::format("end of recording ({} frames)", index_.size());
         return ReadStatus::kTimeout;
       }
-      // Loop: the next pass starts where the last one ended.
-      const auto now = std::chrono::steady_clock::now();
-      start_ = now;
-      start_us_ = host_clock_us();
-      offset_us_ = index_.front().host_time_us;
       next_ = 0;
       if (live_) {
-        // live=1: the next pass continues the sequence and the device clock (one frame period
-        // after the last frame), so a frame monitor sees one unbroken stream.
-        const SessionIndexEntry &first = index_.front(), &last = index_.back();
-        const std::int64_t span_us = last.device_time_us - first.device_time_us;
-        const std::int64_t n = static_cast<std::int64_t>(index_.size());
-        pass_sequence_ += last.sequence + 1 - first.sequence;
-        pass_device_us_ += span_us + (n > 1 ? span_us / (n - 1) : 33333);
+        // live=1: the next pass follows the last on schedule (one frame period after its last
+        // frame) and continues its sequence and device clock, so a frame monitor sees one
+        // unbroken stream; passes wholly in the past are skipped, as a live camera keeps running.
+        const auto now = std::chrono::steady_clock::now();
+        do {
+          start_ += std::chrono::microseconds(pass_host_us_);
+          start_us_ += pass_host_us_;
+          pass_sequence_ += index_.back().sequence + 1 - index_.front().sequence;
+          pass_device_us_ += pass_device_us();
+        } while (!fast_ && start_ + std::chrono::microseconds(pass_host_us_) <= now);
       } else {
+        // The next pass starts where the last one ended.
+        start_ = std::chrono::steady_clock::now();
+        start_us_ = host_clock_us();
         have_last_ = false;
       }
     }
     if (!fast_) {
-      const auto due = start_ + std::chrono::microseconds(index_[next_].host_time_us - offset_us_);
-      if (due > deadline) {
+      const auto due_at = [&](std::size_t k) {
+        return start_ + std::chrono::microseconds(index_[k].host_time_us - offset_us_);
+      };
+      if (due_at(next_) > deadline) {
         std::this_thread::sleep_until(deadline);
         ++health_.timeouts;
         return ReadStatus::kTimeout;
       }
-      std::this_thread::sleep_until(due);
-      // live=1: a late reader gets the newest frame already due, as from a live camera whose
-      // driver overwrote the older buffers (the skipped ones show as a sequence gap = dropped).
-      const auto now = std::chrono::steady_clock::now();
-      while (live_ && next_ + 1 < index_.size() &&
-             start_ + std::chrono::microseconds(index_[next_ + 1].host_time_us - offset_us_) <= now)
-        ++next_;
+      std::this_thread::sleep_until(due_at(next_));
+      if (live_) {
+        // live=1: a late reader gets the newest frame already due, as from a live camera whose
+        // driver overwrote the older buffers (the skipped ones show as a sequence gap = dropped).
+        const auto now = std::chrono::steady_clock::now();
+        while (next_ + 1 < index_.size() && due_at(next_ + 1) <= now) ++next_;
+        if (loop_ && next_ + 1 == index_.size() && start_ + std::chrono::microseconds(pass_host_us_) <= now) {
+          next_ = index_.size();  // the next pass has begun: continue there
+          continue;
+        }
+      }
     }
     const std::size_t i = next_++;
     if (load(i, frame)) break;

@@ -46,6 +46,8 @@ class ReplayDepthCamera : public DepthCamera {
   bool fast_ = false, loop_ = false, rebase_ = false, live_ = false;
   std::uint64_t pass_sequence_ = 0;   // live=1: added to the recorded sequence (earlier passes)
   std::int64_t pass_device_us_ = 0;   // live=1: added to the recorded device time (us)
+  std::int64_t pass_host_us_ = 0;     // one loop pass on the host clock (us)
+  std::int64_t pass_device_us() const;  // one loop pass on the device clock (us)
   bool configured_ = false, active_ = false;
   std::size_t next_ = 0;
   std::chrono::steady_clock::time_point start_;
