@@ -1,5 +1,6 @@
 #include "cell/bench/bench_robots.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "drivers/lcm_channels.h"
@@ -89,7 +90,7 @@ void BenchRobots::run() {
         if (grippers_due) bus_.publish(drivers::channels::gripper_status(g->name()), g->status(utime));
       }
     }
-    if (grippers_due) next_gripper += gripper_period;
+    if (grippers_due) next_gripper = std::max(next_gripper + gripper_period, Clock::now());  // no burst after a stall
     next += arm_period;
     if (next < Clock::now()) next = Clock::now();  // late (busy cores): do not try to catch up
     std::this_thread::sleep_until(next);
