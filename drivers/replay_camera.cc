@@ -19,7 +19,7 @@ DriverResult ReplayDepthCamera::configure(const CameraConfig& config) {
   }
   const std::filesystem::path dir = config.uri.substr(0, hash);
   std::string name = config.uri.substr(hash + 1);
-  fast_ = loop_ = rebase_ = false;
+  fast_ = loop_ = rebase_ = live_ = false;
   if (const auto q = name.find('?'); q != std::string::npos) {
     std::istringstream options(name.substr(q + 1));
     name.resize(q);
@@ -28,7 +28,8 @@ DriverResult ReplayDepthCamera::configure(const CameraConfig& config) {
       else if (opt == "pace=recorded") fast_ = false;
       else if (opt == "loop=1" || opt == "loop=0") loop_ = opt == "loop=1";
       else if (opt == "rebase=1" || opt == "rebase=0") rebase_ = opt == "rebase=1";
-      else return DriverResult::failure(fmt::format("{}: unknown uri option '{}'; expected pace=recorded|fast, loop=0|1, rebase=0|1", who, opt));
+      else if (opt == "live=1" || opt == "live=0") live_ = opt == "live=1";
+      else return DriverResult::failure(fmt::format("{}: unknown uri option '{}'; expected pace=recorded|fast, loop=0|1, rebase=0|1, live=0|1", who, opt));
     }
   }
   try {
@@ -73,6 +74,14 @@ DriverResult ReplayDepthCamera::activate() {
   if (!configured_) return DriverResult::failure("replay camera: activate() before configure()");
   next_ = 0;
   have_last_ = false;
+  pass_sequence_ = 0;
+  pass_device_us_ = 0;
+  {
+    // One pass of a loop (live=1): the recorded span plus one mean frame period (host clock, us).
+    const std::int64_t span = index_.back().host_time_us - index_.front().host_time_us;
+    const auto n = static_cast<std::int64_t>(index_.size());
+    pass_host_us_ = span + (n > 1 ? span / (n - 1) : 33333);
+  }
   start_ = std::chrono::steady_clock::now();
   start_us_ = host_clock_us();
   offset_us_ = index_.front().host_time_us;
@@ -103,8 +112,8 @@ bool ReplayDepthCamera::load(std::size_t i, DepthFrame& f) {
     return false;
   }
   f.camera = config_.name;
-  f.sequence = e.sequence;
-  f.device_time_us = e.device_time_us;
+  f.sequence = e.sequence + pass_sequence_;
+  f.device_time_us = e.device_time_us + pass_device_us_;
   f.host_time_us = rebase_ ? start_us_ + (e.host_time_us - offset_us_) : e.host_time_us;
   f.depth_intrinsics = camera_.depth_intrinsics;
   f.color_intrinsics = e.color_file.empty() ? Intrinsics{} : camera_.color_intrinsics;
@@ -112,6 +121,12 @@ bool ReplayDepthCamera::load(std::size_t i, DepthFrame& f) {
   f.camera_to_cell = config_.camera_to_cell.matrix() == Eigen::Matrix4d::Identity() ? camera_.camera_to_cell
                                                                                      : config_.camera_to_cell;
   return true;
+}
+
+std::int64_t ReplayDepthCamera::pass_device_us() const {
+  const std::int64_t span = index_.back().device_time_us - index_.front().device_time_us;
+  const auto n = static_cast<std::int64_t>(index_.size());
+  return span + (n > 1 ? span / (n - 1) : 33333);
 }
 
 ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
@@ -129,22 +144,45 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
         health_.message = fmt::format("end of recording ({} frames)", index_.size());
         return ReadStatus::kTimeout;
       }
-      // Loop: the next pass starts where the last one ended.
-      const auto now = std::chrono::steady_clock::now();
-      start_ = now;
-      start_us_ = host_clock_us();
-      offset_us_ = index_.front().host_time_us;
       next_ = 0;
-      have_last_ = false;
+      if (live_) {
+        // live=1: the next pass follows the last on schedule (one frame period after its last
+        // frame) and continues its sequence and device clock, so a frame monitor sees one
+        // unbroken stream; passes wholly in the past are skipped, as a live camera keeps running.
+        const auto now = std::chrono::steady_clock::now();
+        do {
+          start_ += std::chrono::microseconds(pass_host_us_);
+          start_us_ += pass_host_us_;
+          pass_sequence_ += index_.back().sequence + 1 - index_.front().sequence;
+          pass_device_us_ += pass_device_us();
+        } while (!fast_ && start_ + std::chrono::microseconds(pass_host_us_) <= now);
+      } else {
+        // The next pass starts where the last one ended.
+        start_ = std::chrono::steady_clock::now();
+        start_us_ = host_clock_us();
+        have_last_ = false;
+      }
     }
     if (!fast_) {
-      const auto due = start_ + std::chrono::microseconds(index_[next_].host_time_us - offset_us_);
-      if (due > deadline) {
+      const auto due_at = [&](std::size_t k) {
+        return start_ + std::chrono::microseconds(index_[k].host_time_us - offset_us_);
+      };
+      if (due_at(next_) > deadline) {
         std::this_thread::sleep_until(deadline);
         ++health_.timeouts;
         return ReadStatus::kTimeout;
       }
-      std::this_thread::sleep_until(due);
+      std::this_thread::sleep_until(due_at(next_));
+      if (live_) {
+        // live=1: a late reader gets the newest frame already due, as from a live camera whose
+        // driver overwrote the older buffers (the skipped ones show as a sequence gap = dropped).
+        const auto now = std::chrono::steady_clock::now();
+        while (next_ + 1 < index_.size() && due_at(next_ + 1) <= now) ++next_;
+        if (loop_ && next_ + 1 == index_.size() && start_ + std::chrono::microseconds(pass_host_us_) <= now) {
+          next_ = index_.size();  // the next pass has begun: continue there
+          continue;
+        }
+      }
     }
     const std::size_t i = next_++;
     if (load(i, frame)) break;

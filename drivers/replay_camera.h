@@ -6,6 +6,10 @@
 //   loop=1         start again at the first frame after the last (default: end = kTimeout)
 //   rebase=1       host_time_us = replay start (steady clock) + recorded offset, so that live
 //                  staleness checks work; default: the recorded host_time_us, unchanged
+//   live=1         as a live camera: with pace=recorded a read that comes late gets the newest
+//                  frame already due (skipped ones count as dropped), and with loop=1 each pass
+//                  continues the sequence and device time of the last (frame monitors see one
+//                  stream); default: every frame in turn however late, each pass as recorded
 // Frames carry the recorded sequence, timestamps, intrinsics and images bit for bit;
 // CameraConfig::name renames the camera if set, and a non-identity CameraConfig::camera_to_cell
 // replaces the recorded extrinsics (a re-calibrated cell). configure() checks session.json, the
@@ -39,7 +43,11 @@ class ReplayDepthCamera : public DepthCamera {
   SessionCamera camera_;
   std::filesystem::path folder_;
   std::vector<SessionIndexEntry> index_;
-  bool fast_ = false, loop_ = false, rebase_ = false;
+  bool fast_ = false, loop_ = false, rebase_ = false, live_ = false;
+  std::uint64_t pass_sequence_ = 0;   // live=1: added to the recorded sequence (earlier passes)
+  std::int64_t pass_device_us_ = 0;   // live=1: added to the recorded device time (us)
+  std::int64_t pass_host_us_ = 0;     // one loop pass on the host clock (us)
+  std::int64_t pass_device_us() const;  // one loop pass on the device clock (us)
   bool configured_ = false, active_ = false;
   std::size_t next_ = 0;
   std::chrono::steady_clock::time_point start_;

@@ -1,0 +1,110 @@
+#include "cell/bench/cycle_figures.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+namespace cell_bench {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::max(0.0, std::ceil(p * static_cast<double>(v.size())) - 1.0));
+  return v[std::min(v.size() - 1, rank)];
+}
+
+void CycleFigures::add(const cell::CycleReport& r) {
+  const auto now = std::chrono::steady_clock::now();
+  if (cycles_ == 0) first_ = now;
+  last_ = now;
+  ++cycles_;
+  ++states_[cell::to_string(r.state)];
+  if (r.tracked) ++tracked_;
+  if (r.latency_ms >= 0) latency_ms_.push_back(r.latency_ms);
+  if (r.frames > 0) tracker_ms_.push_back(r.tracker_ms);
+  if (r.twin_stepped) twin_ms_.push_back(r.twin_step_ms);
+  cycle_ms_.push_back(r.cycle_ms);
+}
+
+double CycleFigures::rate_hz() const {
+  const double s = std::chrono::duration<double>(last_ - first_).count();
+  return cycles_ > 1 && s > 0 ? (cycles_ - 1) / s : 0.0;
+}
+
+std::string CycleFigures::line(const std::string& label, const std::string& phase) const {
+  std::string states;
+  for (const auto& [state, n] : states_) states += fmt::format("{}{} {}", states.empty() ? "" : ", ", state, n);
+  return fmt::format(
+      "figure: {} ({}): rate {:.1f} Hz latency median {:.1f} ms p99 {:.1f} ms | tracker median {:.1f} p99 {:.1f} ms"
+      " | twin step median {:.1f} p99 {:.1f} ms | cycle median {:.1f} p99 {:.1f} ms | {} cycles, {} tracked,"
+      " {} twin steps, {} latencies, {} goal sweeps, states: {} | {}",
+      label, phase, rate_hz(), percentile(latency_ms_, 0.5), percentile(latency_ms_, 0.99),
+      percentile(tracker_ms_, 0.5), percentile(tracker_ms_, 0.99), percentile(twin_ms_, 0.5),
+      percentile(twin_ms_, 0.99), percentile(cycle_ms_, 0.5), percentile(cycle_ms_, 0.99), cycles_, tracked_,
+      twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
+}
+
+std::string CycleFigures::verdict(double target_hz) const {
+  const double rate = rate_hz(), p99 = percentile(latency_ms_, 0.99);
+  // A rate within 2% of the target counts as met: the pacing loop starts late cycles at once,
+  // so a cell that keeps up runs at the target minus timer jitter.
+  const bool rate_ok = rate >= 0.98 * target_hz, latency_ok = !latency_ms_.empty() && p99 <= kLatencyTargetP99Ms;
+  std::string s = fmt::format("target {:.0f} Hz, latency p99 <= {:.0f} ms: ", target_hz, kLatencyTargetP99Ms);
+  if (rate_ok && latency_ok) return s + "met";
+  s += "NOT met:";
+  if (!rate_ok) s += fmt::format(" rate {:.1f} Hz is {:.1f} Hz short;", rate, target_hz - rate);
+  if (latency_ms_.empty()) s += " no latency measured (no frame led to a published error);";
+  else if (!latency_ok) s += fmt::format(" latency p99 {:.1f} ms is {:.1f} ms over;", p99, p99 - kLatencyTargetP99Ms);
+  const double tracker = percentile(tracker_ms_, 0.5), twin = percentile(twin_ms_, 0.5);
+  return s + fmt::format(" dominant stage: {} (medians tracker {:.1f} ms, twin step {:.1f} ms, cycle budget {:.1f} ms)",
+                         tracker >= twin ? "tracker" : "twin", tracker, twin, 1e3 / target_hz);
+}
+
+double rss_mb() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) {
+      std::istringstream fields(line.substr(6));
+      double kb = 0;
+      if (fields >> kb) return kb / 1024.0;
+    }
+  }
+  return -1.0;
+}
+
+std::string load_average_line() {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (!(in >> a >> b >> c)) return "load average unavailable";
+  return fmt::format("load average {:.2f} {:.2f} {:.2f} (1/5/15 min, {} cores)", a, b, c,
+                     std::thread::hardware_concurrency());
+}
+
+void MemorySampler::sample(double t_s) {
+  const double mb = rss_mb();
+  if (first_t_s_ < 0) first_t_s_ = t_s, first_mb_ = mb;
+  last_t_s_ = t_s, last_mb_ = mb;
+  fmt::print("memory: t={:.0f} s rss={:.1f} MB\n", t_s, mb);
+  std::fflush(stdout);
+}
+
+void MemorySampler::poll(double t_s) {
+  if (t_s < next_s_) return;
+  sample(t_s);
+  while (next_s_ <= t_s) next_s_ += every_s_;
+}
+
+void MemorySampler::finish(double t_s) {
+  sample(t_s);
+  const double minutes = (last_t_s_ - first_t_s_) / 60.0;
+  fmt::print("memory growth: {:+.1f} MB from t={:.0f} s ({:.1f} MB) to t={:.0f} s ({:.1f} MB){}\n",
+             last_mb_ - first_mb_, first_t_s_, first_mb_, last_t_s_, last_mb_,
+             minutes > 0 ? fmt::format(", {:+.2f} MB/min", (last_mb_ - first_mb_) / minutes) : "");
+}
+
+}  // namespace cell_bench

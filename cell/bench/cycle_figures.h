@@ -1,0 +1,56 @@
+#pragma once
+// The cell benchmark's figures: per-cycle times of a phase gathered from CycleReports and printed
+// as one "figure:" line (rate, latency, stage times as median / p99), the verdict against the
+// issue's target (rate, latency p99 <= 50 ms), the process RSS sampled over the run and the
+// machine's load average (the 2 cores are shared, so every figure says how busy they were).
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cell/cell_controller.h"
+
+namespace cell_bench {
+
+inline constexpr double kLatencyTargetP99Ms = 50.0;  // the target, ms
+
+class CycleFigures {
+ public:
+  void add(const cell::CycleReport& r);
+  void count_sweep() { ++sweeps_; }
+  int cycles() const { return cycles_; }
+  double rate_hz() const;  // cycles per second between the first and the last added cycle
+  std::string line(const std::string& label, const std::string& phase) const;
+  // "target: ... met" or "target: ... NOT met by ...; dominant stage ...".
+  std::string verdict(double target_hz) const;
+
+ private:
+  int cycles_ = 0, tracked_ = 0, sweeps_ = 0;
+  std::chrono::steady_clock::time_point first_, last_;
+  std::vector<double> latency_ms_, tracker_ms_, twin_ms_, cycle_ms_;
+  std::map<std::string, int> states_;
+};
+
+// The p-quantile (0..1, nearest rank) of v; 0 when empty.
+double percentile(std::vector<double> v, double p);
+
+// Resident set size of this process (/proc/self/status VmRSS), MB; -1 if unreadable.
+double rss_mb();
+// "load average 2.53 2.42 3.70 (1/5/15 min, N cores)" from /proc/loadavg.
+std::string load_average_line();
+
+// Prints "memory: t=.. s rss=.. MB" at the first poll after warm-up and every period after;
+// finish() adds the last sample and the "memory growth" line (last - first).
+class MemorySampler {
+ public:
+  MemorySampler(double every_s, double first_at_s) : every_s_(every_s), next_s_(first_at_s) {}
+  void poll(double t_s);
+  void finish(double t_s);
+
+ private:
+  void sample(double t_s);
+  double every_s_, next_s_;
+  double first_t_s_ = -1, first_mb_ = 0, last_t_s_ = -1, last_mb_ = 0;
+};
+
+}  // namespace cell_bench
