@@ -83,9 +83,17 @@ VecX force_parameter_derivative(ShellModel& model, const DofMap& dofs, const Vec
   const Objective objective(model.potential_terms());
   MaterialRestorer restorer(model);
   Material plus = restorer.saved(), minus = restorer.saved();
-  scale_parameter(plus, parameter, 1.0 + relative_step);
-  scale_parameter(minus, parameter, 1.0 - relative_step);
-  // The step actually taken, after rounding of p (1 +- h).
+  const ParameterScale scale = parameter_scale(parameter);
+  if (scale.logarithmic) {
+    scale_parameter(plus, parameter, 1.0 + relative_step);
+    scale_parameter(minus, parameter, 1.0 - relative_step);
+  } else {
+    // Effect parameters may sit at their bound (0: the effect absent), where a central
+    // difference would step out of the valid range. Their energies are linear in them
+    // (model_effects.h), so a forward difference of one scale step is exact up to rounding.
+    set_parameter(plus, parameter, get_parameter(minus, parameter) + relative_step * scale.scale);
+  }
+  // The step actually taken, after rounding.
   const double step = get_parameter(plus, parameter) - get_parameter(minus, parameter);
   VecX g_plus, g_minus;
   model.set_material(plus);
@@ -192,13 +200,14 @@ bool EquilibriumSensitivity::factorized_for(const Material& m) const {
   return m.poisson_ratio == material_.poisson_ratio;
 }
 
-VecX EquilibriumSensitivity::parameter_values(
+VecX EquilibriumSensitivity::coordinate_scales(
     const std::vector<MaterialParameter>& parameters) const {
-  VecX values(parameters.size());
+  VecX scales(parameters.size());
   for (std::size_t j = 0; j < parameters.size(); ++j) {
-    values(j) = get_parameter(model_.material(), parameters[j]);
+    scales(j) = value_per_search_coordinate(
+        parameters[j], get_parameter(model_.material(), parameters[j]));
   }
-  return values;
+  return scales;
 }
 
 Eigen::MatrixXd EquilibriumSensitivity::tangents(
@@ -210,9 +219,9 @@ Eigen::MatrixXd EquilibriumSensitivity::tangents(
   return out;
 }
 
-Eigen::MatrixXd EquilibriumSensitivity::log_tangents(
+Eigen::MatrixXd EquilibriumSensitivity::coordinate_tangents(
     const std::vector<MaterialParameter>& parameters) {
-  return tangents(parameters) * parameter_values(parameters).asDiagonal();
+  return tangents(parameters) * coordinate_scales(parameters).asDiagonal();
 }
 
 VecX EquilibriumSensitivity::adjoint_gradient(const VecX& dJ_dx,
@@ -225,9 +234,9 @@ VecX EquilibriumSensitivity::adjoint_gradient(const VecX& dJ_dx,
   return out;
 }
 
-VecX EquilibriumSensitivity::log_adjoint_gradient(
+VecX EquilibriumSensitivity::coordinate_adjoint_gradient(
     const VecX& dJ_dx, const std::vector<MaterialParameter>& parameters) {
-  return adjoint_gradient(dJ_dx, parameters).cwiseProduct(parameter_values(parameters));
+  return adjoint_gradient(dJ_dx, parameters).cwiseProduct(coordinate_scales(parameters));
 }
 
 }  // namespace twin

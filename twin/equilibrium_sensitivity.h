@@ -21,8 +21,10 @@
 //
 // The paired parameters kTensile and kBending are differentiated along a scaling of both
 // directions together (scale_parameter), per unit of the u value. On an isotropic sheet this is
-// the derivative with respect to the common value. The log-parameter versions, d/d log p =
-// p d/dp, are what an optimiser working in log space wants.
+// the derivative with respect to the common value. The coordinate versions, d/dy = (dp/dy) d/dp
+// with y the search coordinate (log p, or p / scale for effect parameters), are what an
+// optimiser working in those coordinates wants. Effect parameters (model_effects.h) enter
+// their energies linearly and are differenced forward by relative_step times their scale.
 //
 // Not thread-safe with other users of the model: computing dg/dp sets the model's material to
 // the perturbed values and back (restored also when an exception passes through).
@@ -94,19 +96,20 @@ class EquilibriumSensitivity {
 
   // dx/dp_j (m per unit of p_j) in column j, 3n x P, zero rows at held vertices.
   Eigen::MatrixXd tangents(const std::vector<MaterialParameter>& parameters);
-  // dx/d log p_j = p_j dx/dp_j (m).
-  Eigen::MatrixXd log_tangents(const std::vector<MaterialParameter>& parameters);
+  // dx/dy_j = (dp_j/dy_j) dx/dp_j (m), y the search coordinates (material_parameters.h):
+  // p_j dx/dp_j for a logarithmic parameter.
+  Eigen::MatrixXd coordinate_tangents(const std::vector<MaterialParameter>& parameters);
 
   // dJ/dp_j for a scalar J(x) with gradient dJ_dx (3n; entries of held vertices are ignored),
   // by one adjoint solve.
   VecX adjoint_gradient(const VecX& dJ_dx, const std::vector<MaterialParameter>& parameters);
-  // dJ/d log p_j = p_j dJ/dp_j.
-  VecX log_adjoint_gradient(const VecX& dJ_dx, const std::vector<MaterialParameter>& parameters);
+  // dJ/dy_j = (dp_j/dy_j) dJ/dp_j.
+  VecX coordinate_adjoint_gradient(const VecX& dJ_dx, const std::vector<MaterialParameter>& parameters);
 
  private:
   void factorize();
   bool factorized_for(const Material& material) const;
-  VecX parameter_values(const std::vector<MaterialParameter>& parameters) const;
+  VecX coordinate_scales(const std::vector<MaterialParameter>& parameters) const;  // dp/dy
 
   ShellModel& model_;
   DofMap dofs_;

@@ -1,5 +1,6 @@
 // Identification by gradients: least squares on the markers, the gradient by adjoint solves
-// (trial_evaluator.h), NLopt LD_LBFGS in log-parameter space.
+// (trial_evaluator.h), NLopt LD_LBFGS in search coordinates
+// (log p for stiffnesses, p / scale for effect parameters: material_parameters.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,19 +21,10 @@ constexpr double kMm2PerM2 = 1e6;
 // the line search backs off.
 constexpr double kFailedObjective_mm2 = 1e8;
 
-// Wide bounds (log space) that keep the simulator in a sane range: 1 N/m .. 1e7 N/m for
-// stiffnesses, 1e-8 .. 1 N*m for bending, 1e-3 .. 10 kg/m^2 for density.
+// The physical bounds of each parameter, in its search coordinate.
 std::pair<double, double> sane_bounds(MaterialParameter p) {
-  switch (p) {
-    case MaterialParameter::kBending:
-    case MaterialParameter::kBendingU:
-    case MaterialParameter::kBendingV:
-      return {std::log(1e-8), std::log(1.0)};
-    case MaterialParameter::kSurfaceDensity:
-      return {std::log(1e-3), std::log(10.0)};
-    default:
-      return {std::log(1.0), std::log(1e7)};
-  }
+  const ParameterScale s = parameter_scale(p);
+  return {to_search_coordinate(p, s.lower), to_search_coordinate(p, s.upper)};
 }
 
 }  // namespace
@@ -45,15 +37,18 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
   // Equilibria continued from another method's materials would carry its choice of branches.
   problem.forget_warm_starts();
   result.objective_name = "mean squared marker residual per coordinate (mm^2)";
-  const VecX x0 = options.start_log_values.value_or(problem.log_values_of(problem.base()));
+  const VecX x0 = options.start_coordinates.value_or(problem.coordinates_of(problem.base()));
   const int P = static_cast<int>(x0.size());
-  result.start_log_values = x0;
+  result.start_coordinates = x0;
   std::vector<double> x(x0.data(), x0.data() + P), lower(P), upper(P);
   for (int j = 0; j < P; ++j) {
     std::tie(lower[j], upper[j]) = sane_bounds(problem.parameters()[j]);
     x[j] = std::clamp(x[j], lower[j], upper[j]);
-    lower[j] = std::max(lower[j], x[j] - std::log(options.search_ratio));
-    upper[j] = std::min(upper[j], x[j] + std::log(options.search_ratio));
+    const double reach = parameter_scale(problem.parameters()[j]).logarithmic
+                             ? std::log(options.search_ratio)
+                             : options.linear_search_span;
+    lower[j] = std::max(lower[j], x[j] - reach);
+    upper[j] = std::min(upper[j], x[j] + reach);
   }
   nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(P));
   opt.set_lower_bounds(lower);
@@ -79,7 +74,7 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
         }
         const double f = kMm2PerM2 * e.mean_square_m2;
         if (grad) {
-          for (unsigned j = 0; j < n; ++j) grad[j] = kMm2PerM2 * e.log_gradient(j);
+          for (unsigned j = 0; j < n; ++j) grad[j] = kMm2PerM2 * e.coordinate_gradient(j);
         }
         if (f < c->best) {
           c->best = f;
@@ -126,20 +121,20 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
     x.assign(at.data(), at.data() + P);
   }
   if (context.best_x.size() == P) {
-    result.log_values = context.best_x;
+    result.coordinates = context.best_x;
     result.objective = context.best;
   } else {
-    result.log_values = Eigen::Map<const VecX>(x.data(), P);
+    result.coordinates = Eigen::Map<const VecX>(x.data(), P);
     result.objective = value;
     result.stop_reason += "; no simulation succeeded";
   }
   for (int j = 0; j < P; ++j) {
-    if (result.log_values(j) <= lower[j] + 1e-6 || result.log_values(j) >= upper[j] - 1e-6) {
-      result.stop_reason += fmt::format("; {} at the edge of the search range (x{:g} of the start): restart from there",
-                                        parameter_name(problem.parameters()[j]), options.search_ratio);
+    if (result.coordinates(j) <= lower[j] + 1e-6 || result.coordinates(j) >= upper[j] - 1e-6) {
+      result.stop_reason += fmt::format("; {} at the edge of its search range: restart from there",
+                                        parameter_name(problem.parameters()[j]));
     }
   }
-  result.material = problem.material_at(result.log_values);
+  result.material = problem.material_at(result.coordinates);
   result.simulations = problem.simulations() - simulations_before;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -15,23 +15,23 @@ IdentificationProblem::IdentificationProblem(std::vector<TrialEvaluator*> traini
   if (parameters_.empty()) throw std::invalid_argument("identification needs at least one parameter to vary");
 }
 
-Material IdentificationProblem::material_at(const VecX& log_values) const {
+Material IdentificationProblem::material_at(const VecX& coordinates) const {
   Material m = base_;
-  for (std::size_t j = 0; j < parameters_.size(); ++j) set_parameter(m, parameters_[j], std::exp(log_values(j)));
+  for (std::size_t j = 0; j < parameters_.size(); ++j) set_parameter(m, parameters_[j], from_search_coordinate(parameters_[j], coordinates(j)));
   return m;
 }
 
-VecX IdentificationProblem::log_values_of(const Material& material) const {
+VecX IdentificationProblem::coordinates_of(const Material& material) const {
   VecX v(static_cast<Eigen::Index>(parameters_.size()));
-  for (std::size_t j = 0; j < parameters_.size(); ++j) v(j) = std::log(get_parameter(material, parameters_[j]));
+  for (std::size_t j = 0; j < parameters_.size(); ++j) v(j) = to_search_coordinate(parameters_[j], get_parameter(material, parameters_[j]));
   return v;
 }
 
-IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& log_values, Derivatives derivatives,
+IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& coordinates, Derivatives derivatives,
                                                                   double max_weight, bool fresh) {
   const auto start = std::chrono::steady_clock::now();
   Evaluation e;
-  const Material material = material_at(log_values);
+  const Material material = material_at(coordinates);
   double sum_squares = 0.0;
   std::vector<const TrialFit*> usable;
   for (TrialEvaluator* trial : training_) {
@@ -49,15 +49,15 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& lo
   if (e.usable() && e.residual_count > 0) {
     e.mean_square_m2 = sum_squares / e.residual_count;
     if (derivatives != Derivatives::kNone) {
-      e.log_gradient = VecX::Zero(log_values.size());
-      for (const TrialFit& fit : e.fits) e.log_gradient += fit.log_gradient / e.residual_count;
+      e.coordinate_gradient = VecX::Zero(coordinates.size());
+      for (const TrialFit& fit : e.fits) e.coordinate_gradient += fit.coordinate_gradient / e.residual_count;
     }
     if (derivatives == Derivatives::kJacobian) {
-      e.log_jacobian.resize(e.residual_count, log_values.size());
+      e.coordinate_jacobian.resize(e.residual_count, coordinates.size());
       e.residuals_m.resize(e.residual_count);
       Eigen::Index row = 0;
       for (const TrialFit& fit : e.fits) {
-        e.log_jacobian.middleRows(row, fit.residual_count) = fit.log_jacobian;
+        e.coordinate_jacobian.middleRows(row, fit.residual_count) = fit.coordinate_jacobian;
         e.residuals_m.segment(row, fit.residual_count) = fit.residuals_m;
         row += fit.residual_count;
       }
@@ -66,7 +66,7 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& lo
     e.failure = "no observation was scored (every marker hidden?)";
   }
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (on_evaluation) on_evaluation(log_values, e);
+  if (on_evaluation) on_evaluation(coordinates, e);
   return e;
 }
 
@@ -76,14 +76,14 @@ void IdentificationProblem::forget_warm_starts() {
 
 void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result) {
   const IdentificationProblem::Evaluation e =
-      problem.evaluate(result.log_values, Derivatives::kJacobian, /*max_weight=*/0.5);
+      problem.evaluate(result.coordinates, Derivatives::kJacobian, /*max_weight=*/0.5);
   ++result.simulations;
   result.estimates.clear();
-  const auto P = result.log_values.size();
+  const auto P = result.coordinates.size();
   for (Eigen::Index j = 0; j < P; ++j) {
     ParameterEstimate est;
     est.parameter = problem.parameters()[j];
-    est.value = std::exp(result.log_values(j));
+    est.value = from_search_coordinate(est.parameter, result.coordinates(j));
     est.lower95 = 0.0;
     est.upper95 = std::numeric_limits<double>::infinity();
     result.estimates.push_back(est);
@@ -92,7 +92,7 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
   const double dof = std::max(1.0, static_cast<double>(e.residual_count - P));
   const double sigma2 = e.residuals_m.squaredNorm() / dof;
   result.noise_sigma_m = std::sqrt(sigma2);
-  const Eigen::MatrixXd fisher = e.log_jacobian.transpose() * e.log_jacobian;
+  const Eigen::MatrixXd fisher = e.coordinate_jacobian.transpose() * e.coordinate_jacobian;
   // A parameter with no effect on the markers makes J^T J singular: its variance is infinite.
   // The pseudo-inverse by eigen-decomposition keeps the determined ones finite.
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(fisher);
@@ -111,10 +111,15 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
   for (Eigen::Index j = 0; j < P; ++j) {
     ParameterEstimate& est = result.estimates[j];
     if (unbounded(j) > 1e-3) continue;
-    const double half_width = 1.96 * std::sqrt(covariance(j, j));
-    est.lower95 = est.value * std::exp(-half_width);
-    est.upper95 = est.value * std::exp(half_width);
-    est.determined = half_width < std::log(ParameterEstimate::kDeterminedRatio);
+    const double half_width = 1.96 * std::sqrt(covariance(j, j));  // in the search coordinate
+    const double y = result.coordinates(j);
+    est.lower95 = from_search_coordinate(est.parameter, y - half_width);
+    est.upper95 = from_search_coordinate(est.parameter, y + half_width);
+    // Logarithmic: within a factor kDeterminedRatio. Linear (effect parameters, whose scale
+    // is their meaningful unit): within half a unit.
+    est.determined = parameter_scale(est.parameter).logarithmic
+                         ? half_width < std::log(ParameterEstimate::kDeterminedRatio)
+                         : half_width < 0.5;
   }
 }
 

@@ -4,7 +4,8 @@
 //     NLopt's GN_ISRES (gradient-free, seeded) on Eq. 11, the sum over training stages of the
 //     Algorithm 1 error mean + w max (w = 2);
 //   - ours: least squares on the markers (trial_evaluator.h), with the gradient from one adjoint
-//     solve per stage, driving NLopt's LD_LBFGS in log-parameter space; then the Gauss-Newton
+//     solve per stage, driving NLopt's LD_LBFGS in search coordinates (log p, or p / scale for
+//     effect parameters that may be zero: material_parameters.h); then the Gauss-Newton
 //     (Fisher) covariance at the optimum gives 95 % intervals, and a parameter the data do not
 //     pin down is reported as not determined instead of as a number.
 // Both search in log space (stiffnesses span decades; a relative step means the same
@@ -28,8 +29,8 @@ class IdentificationProblem {
 
   const std::vector<MaterialParameter>& parameters() const { return parameters_; }
   const Material& base() const { return base_; }
-  Material material_at(const VecX& log_values) const;
-  VecX log_values_of(const Material& material) const;
+  Material material_at(const VecX& coordinates) const;
+  VecX coordinates_of(const Material& material) const;
 
   struct Evaluation {
     std::string failure;                 // empty when every training trial simulated
@@ -38,13 +39,13 @@ class IdentificationProblem {
     double nearest_score_m = 0.0;        // sum over stages of Algorithm 1 mean + w max (m)
     double mean_square_m2 = 0.0;         // sum of squared residuals / their count (m^2)
     int residual_count = 0;
-    VecX log_gradient;                   // d mean_square / d log p (m^2), when asked
-    Eigen::MatrixXd log_jacobian;        // stacked over trials, when asked (m)
+    VecX coordinate_gradient;                   // d mean_square / d y (m^2), y the search coordinates
+    Eigen::MatrixXd coordinate_jacobian;        // stacked over trials, when asked (m)
     VecX residuals_m;                    // stacked like the Jacobian
     double seconds = 0.0;
   };
   // fresh: see TrialEvaluator::evaluate.
-  Evaluation evaluate(const VecX& log_values, Derivatives derivatives, double max_weight, bool fresh = false);
+  Evaluation evaluate(const VecX& coordinates, Derivatives derivatives, double max_weight, bool fresh = false);
 
   // The next evaluation simulates every trial from flat and from its scans again (see
   // trial_evaluator.h), instead of continuing the equilibria of earlier materials.
@@ -53,7 +54,7 @@ class IdentificationProblem {
   // Trial simulations run so far (one per training trial per evaluation).
   int simulations() const { return simulations_; }
   // Called after every evaluation (progress output).
-  std::function<void(const VecX& log_values, const Evaluation&)> on_evaluation;
+  std::function<void(const VecX& coordinates, const Evaluation&)> on_evaluation;
 
  private:
   std::vector<TrialEvaluator*> training_;
@@ -73,8 +74,8 @@ struct ParameterEstimate {
 struct IdentificationResult {
   std::string method;
   Material material;                     // base with the identified parameters
-  VecX log_values;
-  VecX start_log_values;                 // where the search started (the best screening candidate)
+  VecX coordinates;
+  VecX start_coordinates;                 // where the search started (the best screening candidate)
   double objective = 0.0;                // the method's own objective at the result
   std::string objective_name;
   int evaluations = 0, simulations = 0;  // simulations: whole-trial simulations, screening included
@@ -106,13 +107,15 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
 // --- gradients ----------------------------------------------------------------------------
 
 struct GradientOptions {
-  std::optional<VecX> start_log_values;  // default: log of the base material's values
+  std::optional<VecX> start_coordinates;  // default: log of the base material's values
   int max_evaluations = 80;
   // The search stays within this factor of the start in every parameter (and within sane
   // physical bounds). L-BFGS's first line searches otherwise try materials thousands of times
   // off, whose simulations fail slowly. A result at this bound is reported in stop_reason.
   double search_ratio = 20.0;
-  double x_tolerance = 5e-3;             // in log p: a relative change of 0.5 % ends the search
+  // The same for linear (effect) parameters: within this many units of their scale of the start.
+  double linear_search_span = 10.0;
+  double x_tolerance = 5e-3;             // in y: for log p a relative change of 0.5 % ends the search
   double f_tolerance = 1e-5;             // relative change of the objective
   // After L-BFGS converges, the trials are re-simulated from scratch at the result: continuing
   // equilibria through large material changes can leave a fold on a branch that the result's
@@ -124,7 +127,7 @@ struct GradientOptions {
 
 IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options);
 
-// Gauss-Newton covariance sigma^2 (J^T J)^-1 in log space at log_values, with sigma^2 the
+// Gauss-Newton covariance sigma^2 (J^T J)^-1 in log space at coordinates, with sigma^2 the
 // residual variance; fills result.estimates and result.noise_sigma_m. One more evaluation (with
 // tangents), counted in result.simulations. Residuals that are not independent noise (model
 // error) make these intervals too narrow: they are the data's limit, not the model's.

@@ -64,7 +64,7 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
     return result;
   }
 
-  result.start_log_values = best_x;
+  result.start_coordinates = best_x;
   // 2. Bounds around the best, as multiples of it.
   const int P = static_cast<int>(best_x.size());
   std::vector<double> lower(P), upper(P), x(P);
@@ -101,9 +101,9 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
   } catch (const std::exception& e) {
     result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
   }
-  result.log_values = Eigen::Map<const VecX>(x.data(), P);
+  result.coordinates = Eigen::Map<const VecX>(x.data(), P);
   result.objective = value;
-  result.material = problem.material_at(result.log_values);
+  result.material = problem.material_at(result.coordinates);
   result.simulations = problem.simulations() - simulations_before;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

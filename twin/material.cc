@@ -92,6 +92,7 @@ void Material::validate() const {
              format_value(poisson_ratio));
   }
   if (thickness_m) require_positive(*thickness_m, src, "thickness_m", "m");
+  effects.validate(src);
 }
 
 double bending_rigidity_from_modulus(double modulus_Pa, double thickness_m, double poisson_ratio) {
@@ -103,7 +104,7 @@ Material material_from_json(const json& j, const std::string& source) {
   const JsonField f(j, source);
   f.only_keys({"name", "surface_density_kg_m2", "tensile_stiffness_N_m", "shear_stiffness_N_m",
                "poisson_ratio", "bending_rigidity_Nm", "bending_modulus_Pa", "thickness_m",
-               "viscosity", "bending_given_as"});
+               "viscosity", "bending_given_as", "effects"});
   Material m;
   if (auto name = f.optional("name")) m.name = name->string();
   m.surface_density_kg_m2 = f["surface_density_kg_m2"].number("kg/m^2");
@@ -146,6 +147,7 @@ Material material_from_json(const json& j, const std::string& source) {
     if (auto x = v->optional("shear_Ns_m")) m.shear_viscosity_Ns_m = x->number("N*s/m");
     if (auto x = v->optional("mass_damping_1_s")) m.mass_damping_1_s = x->number("1/s");
   }
+  if (auto e = f.optional("effects")) m.effects = model_effects_from_json(*e);
   // Range checks, with the file named in every message.
   const std::string name = m.name;
   m.name = source;
@@ -172,6 +174,7 @@ json material_to_json(const Material& m) {
   j["viscosity"] = {{"tensile_Ns_m", m.tensile_viscosity_Ns_m},
                     {"shear_Ns_m", m.shear_viscosity_Ns_m},
                     {"mass_damping_1_s", m.mass_damping_1_s}};
+  if (m.effects.any()) j["effects"] = model_effects_to_json(m.effects);
   return j;
 }
 

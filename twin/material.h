@@ -18,6 +18,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "twin/model_effects.h"
 #include "twin/types.h"
 
 namespace twin {
@@ -39,6 +40,9 @@ struct Material {
   std::optional<double> thickness_m;
   std::optional<double> bending_modulus_u_Pa;  // set when bending was given as a modulus
   std::optional<double> bending_modulus_v_Pa;
+
+  // Effects beyond the paper's model (model_effects.h); all absent by default.
+  ModelEffects effects;
 
   bool bending_given_as_modulus() const { return bending_modulus_u_Pa.has_value(); }
   // 3x3 membrane stiffness C (N/m) on (eps_uu, eps_vv, gamma_uv).

@@ -1,5 +1,6 @@
 #include "twin/material_parameters.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace twin {
@@ -14,6 +15,13 @@ double get_parameter(const Material& m, MaterialParameter parameter) {
     case MaterialParameter::kBendingU: return m.bending_rigidity_u_Nm;
     case MaterialParameter::kBendingV: return m.bending_rigidity_v_Nm;
     case MaterialParameter::kSurfaceDensity: return m.surface_density_kg_m2;
+    case MaterialParameter::kRestCurvatureUU: return m.effects.rest_curvature_uu_1_m;
+    case MaterialParameter::kRestCurvatureVV: return m.effects.rest_curvature_vv_1_m;
+    case MaterialParameter::kRestCurvatureUV: return m.effects.rest_curvature_uv_1_m;
+    case MaterialParameter::kBendingStiffening: return m.effects.bending_stiffening_m2;
+    case MaterialParameter::kMarkerMass: return m.effects.marker_mass_kg;
+    case MaterialParameter::kRelaxationFraction: return m.effects.relaxation_fraction;
+    case MaterialParameter::kRelaxationTime: return m.effects.relaxation_time_s;
   }
   throw std::invalid_argument("get_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -33,6 +41,13 @@ void set_parameter(Material& m, MaterialParameter parameter, double value) {
     case MaterialParameter::kBendingU: m.bending_rigidity_u_Nm = value; return;
     case MaterialParameter::kBendingV: m.bending_rigidity_v_Nm = value; return;
     case MaterialParameter::kSurfaceDensity: m.surface_density_kg_m2 = value; return;
+    case MaterialParameter::kRestCurvatureUU: m.effects.rest_curvature_uu_1_m = value; return;
+    case MaterialParameter::kRestCurvatureVV: m.effects.rest_curvature_vv_1_m = value; return;
+    case MaterialParameter::kRestCurvatureUV: m.effects.rest_curvature_uv_1_m = value; return;
+    case MaterialParameter::kBendingStiffening: m.effects.bending_stiffening_m2 = value; return;
+    case MaterialParameter::kMarkerMass: m.effects.marker_mass_kg = value; return;
+    case MaterialParameter::kRelaxationFraction: m.effects.relaxation_fraction = value; return;
+    case MaterialParameter::kRelaxationTime: m.effects.relaxation_time_s = value; return;
   }
   throw std::invalid_argument("set_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -62,9 +77,55 @@ std::string_view parameter_name(MaterialParameter parameter) {
     case MaterialParameter::kBendingU: return "bending_u_Nm";
     case MaterialParameter::kBendingV: return "bending_v_Nm";
     case MaterialParameter::kSurfaceDensity: return "surface_density_kg_m2";
+    case MaterialParameter::kRestCurvatureUU: return "rest_curvature_uu_1_m";
+    case MaterialParameter::kRestCurvatureVV: return "rest_curvature_vv_1_m";
+    case MaterialParameter::kRestCurvatureUV: return "rest_curvature_uv_1_m";
+    case MaterialParameter::kBendingStiffening: return "bending_stiffening_m2";
+    case MaterialParameter::kMarkerMass: return "marker_mass_kg";
+    case MaterialParameter::kRelaxationFraction: return "relaxation_fraction";
+    case MaterialParameter::kRelaxationTime: return "relaxation_time_s";
   }
   throw std::invalid_argument("parameter_name: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
+}
+
+ParameterScale parameter_scale(MaterialParameter parameter) {
+  switch (parameter) {
+    case MaterialParameter::kTensile:
+    case MaterialParameter::kTensileU:
+    case MaterialParameter::kTensileV:
+    case MaterialParameter::kShear: return {true, 1.0, 1.0, 1e7};            // N/m
+    case MaterialParameter::kBending:
+    case MaterialParameter::kBendingU:
+    case MaterialParameter::kBendingV: return {true, 1.0, 1e-8, 1.0};        // N*m
+    case MaterialParameter::kSurfaceDensity: return {true, 1.0, 1e-3, 10.0};  // kg/m^2
+    // A roll set tighter than a 5 cm radius is a crease, not a set.
+    case MaterialParameter::kRestCurvatureUU:
+    case MaterialParameter::kRestCurvatureVV:
+    case MaterialParameter::kRestCurvatureUV: return {false, 1.0, -20.0, 20.0};  // 1/m
+    // beta kappa^2 = 1 at kappa = 10 1/m for beta = 0.01 m^2.
+    case MaterialParameter::kBendingStiffening: return {false, 0.01, 0.0, 10.0};  // m^2
+    case MaterialParameter::kMarkerMass: return {false, 1e-3, 0.0, 0.05};         // kg
+    case MaterialParameter::kRelaxationFraction: return {false, 0.1, 0.0, 0.95};
+    case MaterialParameter::kRelaxationTime: return {true, 1.0, 0.1, 1e6};        // s
+  }
+  throw std::invalid_argument("parameter_scale: unknown MaterialParameter " +
+                              std::to_string(static_cast<int>(parameter)));
+}
+
+double to_search_coordinate(MaterialParameter parameter, double value) {
+  const ParameterScale s = parameter_scale(parameter);
+  return s.logarithmic ? std::log(value) : value / s.scale;
+}
+
+double from_search_coordinate(MaterialParameter parameter, double coordinate) {
+  const ParameterScale s = parameter_scale(parameter);
+  return s.logarithmic ? std::exp(coordinate) : coordinate * s.scale;
+}
+
+double value_per_search_coordinate(MaterialParameter parameter, double value) {
+  const ParameterScale s = parameter_scale(parameter);
+  return s.logarithmic ? value : s.scale;
 }
 
 MaterialParameter parse_material_parameter(std::string_view name) {

@@ -11,6 +11,19 @@
 //   kBendingU        D_u, curvature along u (N*m)    "bending_u_Nm"
 //   kBendingV        D_v, curvature along v (N*m)    "bending_v_Nm"
 //   kSurfaceDensity  rho (kg/m^2)                    "surface_density_kg_m2"
+// and the parameters of the optional effects (model_effects.h):
+//   kRestCurvatureUU     K0_uu (1/m)                  "rest_curvature_uu_1_m"
+//   kRestCurvatureVV     K0_vv (1/m)                  "rest_curvature_vv_1_m"
+//   kRestCurvatureUV     K0_uv (1/m)                  "rest_curvature_uv_1_m"
+//   kBendingStiffening   beta (m^2)                   "bending_stiffening_m2"
+//   kMarkerMass          point mass per marker (kg)   "marker_mass_kg"
+//   kRelaxationFraction  relaxed fraction (1)         "relaxation_fraction"
+//   kRelaxationTime      tau (s)                      "relaxation_time_s"
+//
+// Search coordinates. Optimisers and derivatives work in a coordinate y per parameter: y = log p
+// for the positive ones (stiffnesses span decades, and a relative step means the same
+// everywhere), y = p / scale for effect parameters that may be zero or negative (their absence
+// is p = 0). parameter_scale() says which, with the physical bounds of p.
 
 #include <array>
 #include <string>
@@ -29,12 +42,36 @@ enum class MaterialParameter {
   kBendingU,
   kBendingV,
   kSurfaceDensity,
+  kRestCurvatureUU,
+  kRestCurvatureVV,
+  kRestCurvatureUV,
+  kBendingStiffening,
+  kMarkerMass,
+  kRelaxationFraction,
+  kRelaxationTime,
 };
 
-inline constexpr std::array<MaterialParameter, 8> kAllMaterialParameters = {
-    MaterialParameter::kTensile,  MaterialParameter::kTensileU, MaterialParameter::kTensileV,
-    MaterialParameter::kShear,    MaterialParameter::kBending,  MaterialParameter::kBendingU,
-    MaterialParameter::kBendingV, MaterialParameter::kSurfaceDensity};
+inline constexpr std::array<MaterialParameter, 15> kAllMaterialParameters = {
+    MaterialParameter::kTensile,          MaterialParameter::kTensileU,
+    MaterialParameter::kTensileV,         MaterialParameter::kShear,
+    MaterialParameter::kBending,          MaterialParameter::kBendingU,
+    MaterialParameter::kBendingV,         MaterialParameter::kSurfaceDensity,
+    MaterialParameter::kRestCurvatureUU,  MaterialParameter::kRestCurvatureVV,
+    MaterialParameter::kRestCurvatureUV,  MaterialParameter::kBendingStiffening,
+    MaterialParameter::kMarkerMass,       MaterialParameter::kRelaxationFraction,
+    MaterialParameter::kRelaxationTime};
+
+struct ParameterScale {
+  bool logarithmic = true;  // y = log p; else y = p / scale
+  double scale = 1.0;       // SI units of p per unit of y (linear parameters only)
+  double lower = 0.0;       // physical bounds of p (SI): searches stay inside them
+  double upper = 0.0;
+};
+ParameterScale parameter_scale(MaterialParameter parameter);
+double to_search_coordinate(MaterialParameter parameter, double value);
+double from_search_coordinate(MaterialParameter parameter, double coordinate);
+// dp/dy at p = value: value for a logarithmic parameter, scale for a linear one.
+double value_per_search_coordinate(MaterialParameter parameter, double value);
 
 // Value in SI units (see the table above). For the paired kTensile and kBending: the u value
 // (equal to the v value on an isotropic sheet, which is what those parameters are for).

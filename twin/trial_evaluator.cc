@@ -14,9 +14,9 @@
 namespace twin {
 namespace {
 
-VecX log_values(const Material& material, const std::vector<MaterialParameter>& parameters) {
+VecX search_coordinates(const Material& material, const std::vector<MaterialParameter>& parameters) {
   VecX v(static_cast<Eigen::Index>(parameters.size()));
-  for (std::size_t j = 0; j < parameters.size(); ++j) v(j) = std::log(get_parameter(material, parameters[j]));
+  for (std::size_t j = 0; j < parameters.size(); ++j) v(j) = to_search_coordinate(parameters[j], get_parameter(material, parameters[j]));
   return v;
 }
 
@@ -75,12 +75,12 @@ std::vector<ClampPose> TrialEvaluator::stage_poses(int stage) const {
   return poses;
 }
 
-const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const VecX& log_parameters) const {
+const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const VecX& coordinates) const {
   const CachedEquilibria* best = nullptr;
   double best_distance = std::log(kMaterialStepRatio) * kMaxMaterialSteps;
   for (const CachedEquilibria& c : cache_) {
-    if (c.log_parameters.size() != log_parameters.size()) continue;
-    const double d = (c.log_parameters - log_parameters).cwiseAbs().maxCoeff();
+    if (c.coordinates.size() != coordinates.size()) continue;
+    const double d = (c.coordinates - coordinates).cwiseAbs().maxCoeff();
     // The same material can be cached twice (continued, and simulated afresh) on different
     // branches: prefer the one nearer the scans.
     bool better = d <= best_distance;
@@ -98,7 +98,7 @@ const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const Vec
 
 bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material& target,
                                    const std::vector<MaterialParameter>& parameters, TrialFit& fit) {
-  const VecX from = start.log_parameters, to = log_values(target, parameters);
+  const VecX from = start.coordinates, to = search_coordinates(target, parameters);
   const int steps =
       std::max(1, static_cast<int>(std::ceil((to - from).cwiseAbs().maxCoeff() / std::log(kMaterialStepRatio) - 1e-9)));
   std::vector<VecX> x = start.stage_x;
@@ -106,7 +106,7 @@ bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material
     // Geometric interpolation of the varied parameters; the rest is the target's.
     Material m = target;
     const VecX at = from + (to - from) * (static_cast<double>(k) / steps);
-    for (std::size_t j = 0; j < parameters.size(); ++j) set_parameter(m, parameters[j], std::exp(at(j)));
+    for (std::size_t j = 0; j < parameters.size(); ++j) set_parameter(m, parameters[j], from_search_coordinate(parameters[j], at(j)));
     model_->set_material(m);
     for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
       const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), x[s]);
@@ -187,8 +187,8 @@ void TrialEvaluator::score(TrialFit& fit) const {
 void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
                                    Derivatives derivatives) {
   const auto P = static_cast<Eigen::Index>(parameters.size());
-  fit.log_gradient = VecX::Zero(P);
-  if (derivatives == Derivatives::kJacobian) fit.log_jacobian.setZero(fit.residual_count, P);
+  fit.coordinate_gradient = VecX::Zero(P);
+  if (derivatives == Derivatives::kJacobian) fit.coordinate_jacobian.setZero(fit.residual_count, P);
   Eigen::Index row = 0;
   for (std::size_t s = 0; s < fit.stages.size(); ++s) {
     const StageFit& stage = fit.stages[s];
@@ -207,12 +207,12 @@ void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialPara
       const Vec3 r = p.predicted(stage.x) - p.observed;
       for (int k = 0; k < 3; ++k) dS_dx.segment<3>(3 * p.vertices[k]) += 2.0 * p.weights(k) * r;
     }
-    fit.log_gradient += sensitivity->log_adjoint_gradient(dS_dx, parameters);
+    fit.coordinate_gradient += sensitivity->coordinate_adjoint_gradient(dS_dx, parameters);
     if (derivatives == Derivatives::kJacobian) {
-      const Eigen::MatrixXd tangents = sensitivity->log_tangents(parameters);
+      const Eigen::MatrixXd tangents = sensitivity->coordinate_tangents(parameters);
       for (const Pairing& p : paired) {
         for (int k = 0; k < 3; ++k) {
-          fit.log_jacobian.middleRows(row, 3) += p.weights(k) * tangents.middleRows(3 * p.vertices[k], 3);
+          fit.coordinate_jacobian.middleRows(row, 3) += p.weights(k) * tangents.middleRows(3 * p.vertices[k], 3);
         }
         row += 3;
       }
@@ -240,9 +240,9 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
     fit.failure = e.what();
     return finish();
   }
-  const VecX log_parameters = log_values(material, parameters);
+  const VecX coordinates = search_coordinates(material, parameters);
   bool simulated = false;
-  if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(log_parameters)) {
+  if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(coordinates)) {
     simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
   }
@@ -263,10 +263,10 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   if (fresh) {
     // A fresh simulation that fits better than the equilibria continued to this material is on
     // a better branch: continuing from the old ones nearby would carry the worse one on.
-    const CachedEquilibria* continued = nearest_cached(log_parameters);
+    const CachedEquilibria* continued = nearest_cached(coordinates);
     if (continued && fit.sum_squares_m2 < continued->sum_squares_m2) cache_.clear();
   }
-  CachedEquilibria entry{log_parameters, fit.sum_squares_m2, {}};
+  CachedEquilibria entry{coordinates, fit.sum_squares_m2, {}};
   for (const StageFit& s : fit.stages) entry.stage_x.push_back(s.x);
   constexpr std::size_t kCacheSize = 16;
   if (cache_.size() == kCacheSize) cache_.erase(cache_.begin());

@@ -57,8 +57,8 @@ struct TrialFit {
   std::vector<StageFit> stages;
   double sum_squares_m2 = 0.0;         // S above
   int residual_count = 0;              // scalar residuals in S (3 per observation)
-  VecX log_gradient;                   // dS/d log p_j (m^2), with Derivatives::kGradient or kJacobian
-  Eigen::MatrixXd log_jacobian;        // d r / d log p_j (m), residual_count x P, with kJacobian
+  VecX coordinate_gradient;                   // dS/dy_j (m^2), y the search coordinates (material_parameters.h), with Derivatives::kGradient or kJacobian
+  Eigen::MatrixXd coordinate_jacobian;        // d r / dy_j (m), residual_count x P, with kJacobian
   VecX residuals_m;                    // r (residual_count), stacked like the Jacobian's rows
   bool warm_started = false;
   int stages_from_scan = 0;            // cold start: stages whose equilibrium was found from the scan
@@ -100,11 +100,11 @@ class TrialEvaluator {
 
  private:
   struct CachedEquilibria {
-    VecX log_parameters;
+    VecX coordinates;
     double sum_squares_m2 = 0.0;  // their misfit: of equally near entries, the better fit starts
     std::vector<VecX> stage_x;
   };
-  const CachedEquilibria* nearest_cached(const VecX& log_parameters) const;
+  const CachedEquilibria* nearest_cached(const VecX& coordinates) const;
   bool simulate_warm(const CachedEquilibria& start, const Material& target,
                      const std::vector<MaterialParameter>& parameters, TrialFit& fit);
   bool simulate_cold(TrialFit& fit);

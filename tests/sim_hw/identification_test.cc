@@ -54,9 +54,9 @@ TEST_CASE("the adjoint gradient of the marker misfit matches finite differences"
   const twin::TrialFit fit = evaluator.evaluate(at, kPaperParameters, twin::Derivatives::kJacobian);
   INFO(fit.failure);
   REQUIRE(fit.usable());
-  REQUIRE(fit.log_gradient.size() == 3);
+  REQUIRE(fit.coordinate_gradient.size() == 3);
   // The Jacobian's rows give the same gradient: dS/dlog p = 2 J^T r.
-  const VecX from_jacobian = 2.0 * fit.log_jacobian.transpose() * fit.residuals_m;
+  const VecX from_jacobian = 2.0 * fit.coordinate_jacobian.transpose() * fit.residuals_m;
   for (int j = 0; j < 3; ++j) {
     twin::Material plus = at, minus = at;
     const double h = 1e-4;
@@ -68,9 +68,9 @@ TEST_CASE("the adjoint gradient of the marker misfit matches finite differences"
     REQUIRE(fm.usable());
     const double fd = (fp.sum_squares_m2 - fm.sum_squares_m2) / (2 * h);
     INFO(twin::parameter_name(kPaperParameters[j]) << ": finite difference " << fd << ", adjoint "
-                                                   << fit.log_gradient(j) << ", tangents " << from_jacobian(j));
-    CHECK(fit.log_gradient(j) == Approx(fd).epsilon(1e-3).margin(1e-4 * fit.log_gradient.cwiseAbs().maxCoeff()));
-    CHECK(from_jacobian(j) == Approx(fit.log_gradient(j)).epsilon(1e-6).margin(1e-9));
+                                                   << fit.coordinate_gradient(j) << ", tangents " << from_jacobian(j));
+    CHECK(fit.coordinate_gradient(j) == Approx(fd).epsilon(1e-3).margin(1e-4 * fit.coordinate_gradient.cwiseAbs().maxCoeff()));
+    CHECK(from_jacobian(j) == Approx(fit.coordinate_gradient(j)).epsilon(1e-6).margin(1e-9));
   }
 }
 
@@ -96,7 +96,7 @@ TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "
   CHECK(fit.residual_count == marker_residuals + 3 * points);
   // At the truth, the cloud's points lie within the mesh's nearest-vertex floor (half an edge).
   CHECK(cloud_stage.nearest.mean_m < 0.05);
-  CHECK(fit.log_gradient.allFinite());
+  CHECK(fit.coordinate_gradient.allFinite());
 }
 
 TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[sim_hw][identification]") {
@@ -104,7 +104,7 @@ TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[
   twin::IdentificationProblem problem({&evaluator}, start_material(1.5, 0.6, 1.6), kPaperParameters);
   twin::IdentificationResult result = twin::identify_gradient(problem, {});
   INFO(result.stop_reason);
-  REQUIRE(result.log_values.size() == 3);
+  REQUIRE(result.coordinates.size() == 3);
   twin::estimate_uncertainty(problem, result);
   const twin::Material& truth = lab_trial().truth;
   const double tolerance[3] = {0.10, 0.10, 0.05};  // tensile, shear (issue: 10 %), bending (5 %)
@@ -136,14 +136,14 @@ TEST_CASE("the paper's method screens 27 candidates and searches around the best
   options.seed = 3;
   const twin::IdentificationResult result = twin::identify_isres(problem, options);
   INFO(result.stop_reason);
-  REQUIRE(result.log_values.size() == 3);
+  REQUIRE(result.coordinates.size() == 3);
   CHECK(result.evaluations == 27 + 40);
   // The search started at one of the candidates and stayed within the paper's bounds around
   // it: x0.2..x1.8 for the stiffnesses, x0.9..x1.1 for bending.
   const auto candidates = twin::paper_screening_candidates(problem);
   CHECK(std::any_of(candidates.begin(), candidates.end(),
-                    [&](const VecX& c) { return (c - result.start_log_values).norm() < 1e-12; }));
-  const VecX ratio = (result.log_values - result.start_log_values).array().exp();
+                    [&](const VecX& c) { return (c - result.start_coordinates).norm() < 1e-12; }));
+  const VecX ratio = (result.coordinates - result.start_coordinates).array().exp();
   CHECK(ratio(0) >= 0.2 - 1e-9);
   CHECK(ratio(0) <= 1.8 + 1e-9);
   CHECK(ratio(1) >= 0.2 - 1e-9);

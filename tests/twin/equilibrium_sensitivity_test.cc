@@ -140,7 +140,7 @@ TEST_CASE("equilibrium tangents dx/dp match re-solved equilibria", "[twin][sensi
   CHECK(sensitivity.relative_smallest_eigenvalue() > 1e-8);  // measured 2.6e-6: well conditioned
 
   const Eigen::MatrixXd tangents = sensitivity.tangents(kParameters);
-  const Eigen::MatrixXd log_tangents = sensitivity.log_tangents(kParameters);
+  const Eigen::MatrixXd coordinate_tangents = sensitivity.coordinate_tangents(kParameters);
   REQUIRE(tangents.rows() == rig.x.size());
   REQUIRE(tangents.cols() == static_cast<Eigen::Index>(kParameters.size()));
 
@@ -162,7 +162,7 @@ TEST_CASE("equilibrium tangents dx/dp match re-solved equilibria", "[twin][sensi
     const double error = relative_error(tangent, fd);
     INFO(name(p) << ": |dx/d log p| = " << value * fd.norm() << " m, relative error " << error);
     CHECK(error < kTolerance);
-    CHECK(relative_error(log_tangents.col(j), value * tangent) <= 1e-14);
+    CHECK(relative_error(coordinate_tangents.col(j), value * tangent) <= 1e-14);
     for (int v = 0; v < rig.model.vertex_count(); ++v) {
       if (rig.dofs.is_fixed(v)) CHECK(vertex(tangent, v).isZero(0.0));
     }
@@ -183,7 +183,7 @@ TEST_CASE("adjoint gradients dJ/dp match re-solved equilibria and forward tangen
   EquilibriumSensitivity sensitivity(rig.model, rig.dofs, rig.x);
   const VecX dJ_dx = objective.gradient(rig.x);
   const VecX adjoint = sensitivity.adjoint_gradient(dJ_dx, kParameters);
-  const VecX log_adjoint = sensitivity.log_adjoint_gradient(dJ_dx, kParameters);
+  const VecX log_adjoint = sensitivity.coordinate_adjoint_gradient(dJ_dx, kParameters);
   const Eigen::MatrixXd tangents = sensitivity.tangents(kParameters);
   REQUIRE(adjoint.size() == static_cast<Eigen::Index>(kParameters.size()));
 
@@ -350,8 +350,8 @@ TEST_CASE("update refactorises at a new material's equilibrium; a stale factor i
   REQUIRE(solver.solve(rig.clamps, rig.poses, x, tight_options()).usable());
   sensitivity.update(x);
   EquilibriumSensitivity fresh(rig.model, rig.dofs, x);
-  const Eigen::MatrixXd updated = sensitivity.log_tangents(kParameters);
-  const Eigen::MatrixXd reference = fresh.log_tangents(kParameters);
+  const Eigen::MatrixXd updated = sensitivity.coordinate_tangents(kParameters);
+  const Eigen::MatrixXd reference = fresh.coordinate_tangents(kParameters);
   CHECK((updated - reference).norm() <= 1e-12 * reference.norm());
 }
 

@@ -3,6 +3,7 @@
 #include "twin/material_parameters.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -78,6 +79,29 @@ TEST_CASE("get, set and scale address the right material fields", "[twin][materi
   scale_parameter(m, MaterialParameter::kShear, 3.0);
   CHECK(m.shear_stiffness_N_m == 3600.0);
   CHECK(m.surface_density_kg_m2 == 0.25);
+}
+
+TEST_CASE("search coordinates: log for stiffnesses, scaled linear for effects", "[twin][material][effects]") {
+  for (MaterialParameter p : kAllMaterialParameters) {
+    const ParameterScale s = parameter_scale(p);
+    INFO(parameter_name(p));
+    CHECK(s.lower < s.upper);
+    const double mid = s.logarithmic ? std::sqrt(s.lower * s.upper) : 0.5 * (s.lower + s.upper);
+    CHECK(from_search_coordinate(p, to_search_coordinate(p, mid)) == Approx(mid).epsilon(1e-12));
+    const double h = 1e-6;
+    const double y = to_search_coordinate(p, mid);
+    const double fd = (from_search_coordinate(p, y + h) - from_search_coordinate(p, y - h)) / (2 * h);
+    CHECK(value_per_search_coordinate(p, mid) == Approx(fd).epsilon(1e-6));
+  }
+  CHECK(parameter_scale(MaterialParameter::kBending).logarithmic);
+  CHECK_FALSE(parameter_scale(MaterialParameter::kRestCurvatureUU).logarithmic);
+  // The effect parameters address the effects block.
+  Material m;
+  set_parameter(m, MaterialParameter::kRestCurvatureUV, -0.5);
+  set_parameter(m, MaterialParameter::kMarkerMass, 2e-4);
+  CHECK(m.effects.rest_curvature_uv_1_m == -0.5);
+  CHECK(get_parameter(m, MaterialParameter::kMarkerMass) == 2e-4);
+  CHECK(m.effects.any());
 }
 
 }  // namespace

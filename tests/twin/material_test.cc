@@ -47,6 +47,46 @@ TEST_CASE("warp and weft values may differ", "[twin][material]") {
   CHECK(material_to_json(m)["bending_rigidity_Nm"]["warp"].get<double>() == 1e-3);
 }
 
+TEST_CASE("the effects block reads, validates and round-trips", "[twin][material][effects]") {
+  json j = composite();
+  CHECK_FALSE(material_from_json(j, "plain.json").effects.any());
+  CHECK_FALSE(material_to_json(material_from_json(j, "plain.json")).contains("effects"));
+  j["effects"] = json::parse(R"({"rest_curvature_1_m": {"uu": 1.5, "uv": -0.25},
+    "bending_stiffening_m2": 0.02, "marker_mass_kg": 0.0004,
+    "relaxation": {"fraction": 0.3, "time_s": 120}})");
+  const Material m = material_from_json(j, "roll.json");
+  CHECK(m.effects.rest_curvature_uu_1_m == 1.5);
+  CHECK(m.effects.rest_curvature_vv_1_m == 0.0);
+  CHECK(m.effects.rest_curvature_uv_1_m == -0.25);
+  CHECK(m.effects.bending_stiffening_m2 == 0.02);
+  CHECK(m.effects.marker_mass_kg == 0.0004);
+  CHECK(m.effects.relaxation_factor(0.0) == 1.0);
+  CHECK(m.effects.relaxation_factor(120.0) == Approx(1.0 - 0.3 * (1.0 - std::exp(-1.0))));
+  CHECK(m.effects.relaxation_factor(std::nan("")) == Approx(0.7));
+  const Material again = material_from_json(material_to_json(m), "again");
+  CHECK(again.effects.rest_curvature_uv_1_m == -0.25);
+  CHECK(again.effects.relaxation_time_s == 120.0);
+  CHECK(again.effects.marker_mass_kg == 0.0004);
+
+  auto rejects = [&](const char* effects, const char* field) {
+    json bad = composite();
+    bad["effects"] = json::parse(effects);
+    try {
+      material_from_json(bad, "bad.json");
+      FAIL("accepted " << effects);
+    } catch (const std::invalid_argument& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find("bad.json") != std::string::npos);
+      CHECK(std::string(e.what()).find(field) != std::string::npos);
+    }
+  };
+  rejects(R"({"bending_stiffening_m2": -1})", "bending_stiffening_m2");
+  rejects(R"({"relaxation": {"fraction": 1.0}})", "fraction");
+  rejects(R"({"relaxation": {"time_s": 0}})", "time_s");
+  rejects(R"({"roll_set": 1})", "roll_set");
+  rejects(R"({"rest_curvature_1_m": {"uu": "a"}})", "uu");
+}
+
 TEST_CASE("bad material values are rejected with the file and field named", "[twin][material]") {
   struct Case {
     const char* field;

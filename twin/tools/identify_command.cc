@@ -140,7 +140,8 @@ int run_identify(const IdentifyArguments& a) {
     problem.on_evaluation = [&](const VecX& v, const IdentificationProblem::Evaluation& e) {
       std::string values;
       for (Eigen::Index j = 0; j < v.size(); ++j) {
-        values += fmt::format(" {}={:.4g}", parameter_name(parameters[j]), std::exp(v(j)));
+        values += fmt::format(" {}={:.4g}", parameter_name(parameters[j]),
+                              from_search_coordinate(parameters[j], v(j)));
       }
       if (e.usable()) {
         fmt::print("  eval {:4d}{}  rms {:.3f} mm  Eq.11 {:.2f} cm  ({:.2f} s)\n", ++count, values,
@@ -166,7 +167,7 @@ int run_identify(const IdentifyArguments& a) {
   }
   int status = 2;
   for (IdentificationResult& r : results) {
-    if (r.log_values.size() == 0) {
+    if (r.coordinates.size() == 0) {
       fmt::print("\n{}: no result ({})\n", r.method, r.stop_reason);
       continue;
     }
