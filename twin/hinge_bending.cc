@@ -46,12 +46,15 @@ double hinge_bending_energy(const HingeElement& h, const Vec12& xh, Vec12* grad,
   const double theta =
       dihedral_angle(xh, (grad || hess) ? &g : nullptr, exact ? &hth : nullptr);
   const double d = theta - h.rest_angle_rad;
-  if (grad) *grad = 2.0 * h.stiffness_Nm * d * g;
+  const double qd2 = h.quartic_per_rad2 * d * d;
+  // With q = 0 these are the quadratic hinge's 2 k d and 2 k, bit for bit.
+  const double dpsi = 2.0 * h.stiffness_Nm * d * (1.0 + 2.0 * qd2);
+  if (grad) *grad = dpsi * g;
   if (hess) {
-    *hess = 2.0 * h.stiffness_Nm * g * g.transpose();
-    if (exact) *hess += 2.0 * h.stiffness_Nm * d * hth;
+    *hess = (2.0 * h.stiffness_Nm * (1.0 + 6.0 * qd2)) * g * g.transpose();
+    if (exact) *hess += dpsi * hth;
   }
-  return h.stiffness_Nm * d * d;
+  return h.stiffness_Nm * d * d * (1.0 + qd2);
 }
 
 }  // namespace twin

@@ -32,13 +32,22 @@ ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gra
       masses_(lumped_vertex_masses(mesh_, material.surface_density_kg_m2)),
       membrane_(mesh_, material.membrane_stiffness()),
       bending_(mesh_, material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm),
-      gravity_(masses_, gravity_m_s2) {}
+      gravity_(masses_, gravity_m_s2) {
+  apply_bending_effects(material_.effects);
+}
+
+void ShellModel::apply_bending_effects(const ModelEffects& effects) {
+  bending_.set_rest_curvature(
+      {effects.rest_curvature_uu_1_m, effects.rest_curvature_vv_1_m, effects.rest_curvature_uv_1_m});
+  bending_.set_stiffening(effects.bending_stiffening_m2);
+}
 
 void ShellModel::set_material(const Material& material) {
   material.validate();
   // Bending first: it is the only update that can reject the material, and nothing else has
   // changed yet if it does.
   bending_.set_rigidity(material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm);
+  apply_bending_effects(material.effects);  // cannot throw for a validated material
   material_ = material;
   masses_ = lumped_vertex_masses(mesh_, material.surface_density_kg_m2);
   membrane_.set_stiffness(material.membrane_stiffness());

@@ -2,7 +2,8 @@
 // The sheet as a mechanical system: rest mesh, material, lumped masses and the energy terms of
 // its potential energy (membrane + hinge bending + gravity). Solvers add inertia and viscosity
 // for dynamics. Changing the material (as identification does thousands of times) updates the
-// terms in place; topology, calibration and colourings are built once.
+// terms in place; topology, calibration and colourings are built once. Of the optional effects
+// (model_effects.h) the rest curvature and the bending stiffening act through the bending term.
 
 #include <memory>
 
@@ -38,6 +39,8 @@ class ShellModel {
   std::vector<const EnergyTerm*> potential_terms() const { return {&membrane_, &bending_, &gravity_}; }
 
  private:
+  void apply_bending_effects(const ModelEffects& effects);
+
   SheetMesh mesh_;
   Material material_;
   std::vector<double> masses_;
