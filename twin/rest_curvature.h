@@ -14,6 +14,18 @@
 // (identification differences the gradient forward in K0 and relies on that). The sign follows
 // dihedral_angle.h: lifting the wings makes theta negative, so K0 > 0 gives negative angles.
 //
+// Why not theta_rest = -n^T K0 (c_b - c_a) (n the edge's in-plane normal, c the rest centroids):
+// that is the angle between the smooth surface's normals at the centroids, but the hinge angle
+// is between the flat triangles' normals, i.e. the secant slopes of the interpolated surface. On
+// an equilateral hinge of heights h, a cylinder across the edge gives |theta| = kappa h, the
+// centroid formula 2/3 of it, which would leave a wrapped sheet with 1/9 of its bending energy.
+// The linearised form is tested against the dihedral angle of the lifted hinge (relative
+// difference below 1e-4) and against sheets wrapped on cylinders (energy below 1e-5 of unset).
+//
+// Several curvatures at once (K0_uu and K0_vv both non-zero) describe a doubly curved rest shape
+// that a flat rest membrane cannot take without stretching: the sheet then keeps some internal
+// stress at rest, as a real ply with such a set would.
+//
 // The same coefficients give each hinge's angle per unit curvature across it,
 // t_e = theta_rest(K0 = n n^T) with n the hinge's unit normal in (u, v): the length (m) that
 // converts a hinge angle to a curvature (used by bending stiffening).

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/support/random_states.h"
 #include "tests/support/term_check.h"
 #include "twin/bending_term.h"
@@ -107,22 +109,32 @@ TEST_CASE("rest angles are linear in the rest curvature tensor", "[twin][effects
   CHECK(map.rest_angles({}) == std::vector<double>(tm.size(), 0.0));
 }
 
-TEST_CASE("the ShellModel applies the roll set from the material, and only when it changes",
+TEST_CASE("the ShellModel applies the bending effects of a material file, and only on change",
           "[twin][effects]") {
-  Material m;
-  m.effects.rest_curvature_uu_1_m = 4.0;
+  // As a user writes it: the "effects" block of the material file (README "Material file").
+  nlohmann::json j = material_to_json(Material{});
+  j["effects"] = nlohmann::json::parse(
+      R"({"rest_curvature_1_m": {"uu": 4.0}, "bending_stiffening_m2": 0.03})");
+  Material m = material_from_json(j, "roll.json");
   ShellModel model(make_rectangular_sheet(0.3, 0.2, 0.04), m);
   const auto expected = model.bending().curvature_map().rest_angles({4.0, 0.0, 0.0});
   for (std::size_t e = 0; e < expected.size(); ++e) {
-    REQUIRE(model.bending().elements()[e].rest_angle_rad == expected[e]);
+    const HingeElement& h = model.bending().elements()[e];
+    REQUIRE(h.rest_angle_rad == expected[e]);
+    const double d = model.bending().stiffening_lengths_m()[e];
+    REQUIRE(h.quartic_per_rad2 == Approx(0.03 / (2.0 * d * d)).epsilon(1e-15));
   }
+  m.effects.bending_stiffening_m2 = 0.0;
   // Rest angles set by hand are replaced by the material's again on the next set_material.
   model.bending().set_rest_angles(std::vector<double>(expected.size(), 0.25));
   model.set_material(m);
   CHECK(model.bending().elements()[0].rest_angle_rad == expected[0]);
   m.effects.rest_curvature_uu_1_m = 0.0;
   model.set_material(m);
-  for (const HingeElement& h : model.bending().elements()) CHECK(h.rest_angle_rad == 0.0);
+  for (const HingeElement& h : model.bending().elements()) {
+    CHECK(h.rest_angle_rad == 0.0);
+    CHECK(h.quartic_per_rad2 == 0.0);
+  }
 }
 
 TEST_CASE("bending with rest angles and stiffening: gradient and Hessian match finite differences",
