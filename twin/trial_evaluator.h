@@ -22,6 +22,10 @@
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
 // stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
 // would be needed, the trial is simulated afresh.
+//
+// Effects that need the trial (model_effects.h): the twin carries the trial's markers (their
+// mass, when the material gives them one), and every stage is solved and differentiated at its
+// load age (stage_age.h), so a relaxing material is stiffer in a stage scanned soon after a move.
 
 #include <memory>
 #include <optional>
@@ -121,6 +125,7 @@ class TrialEvaluator {
   std::unique_ptr<StaticSolver> statics_;
   std::vector<std::unique_ptr<EquilibriumSensitivity>> sensitivities_;  // per stage, reused
   std::vector<CachedEquilibria> cache_;
+  std::vector<double> ages_s_;  // per stage, since the clamps last moved (stage_age.h)
 };
 
 }  // namespace twin
