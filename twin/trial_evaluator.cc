@@ -250,7 +250,9 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   }
   const VecX coordinates = search_coordinates(material, parameters);
   bool simulated = false;
+  double start_sum_squares_m2 = 0.0;
   if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(coordinates)) {
+    start_sum_squares_m2 = cached->sum_squares_m2;
     simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
   }
@@ -260,6 +262,17 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
     return finish();
   }
   score(fit);
+  if (fit.warm_started && fit.sum_squares_m2 > kBranchCheckRatio * start_sum_squares_m2) {
+    // Continued equilibria that fit far worse than those they started from may have been
+    // carried onto a branch the scans would not choose (seen fitting marker mass and bending
+    // together: L-BFGS then crept along a false valley). The material's fresh equilibria decide.
+    TrialFit again = evaluate(material, parameters, derivatives, true);
+    if (again.usable() && again.sum_squares_m2 < fit.sum_squares_m2) {
+      again.newton_iterations += fit.newton_iterations;
+      again.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return again;
+    }
+  }
   if (derivatives != Derivatives::kNone) {
     try {
       differentiate(fit, parameters, derivatives);
