@@ -85,6 +85,29 @@ std::vector<std::vector<ClampPose>> lab_stages(const std::vector<ClampSpec>& cla
   return stages;
 }
 
+// When each stage's clamps stopped and when it was scanned (s from the first clamp closing):
+// scans follow a move after 20 s to 15 min, log-uniform, so that a relaxing sheet is seen at
+// many ages (with one delay for all, relaxation would look like a softer material). Moves take
+// 5-30 s. A generator of its own (from the seed) leaves every other draw of the lab as it was.
+struct StageTimes {
+  double clamps_moved_at_s = 0.0, time_s = 0.0;
+};
+std::vector<StageTimes> lab_stage_times(std::size_t stages, std::uint64_t seed) {
+  std::mt19937_64 rng(seed ^ 0x5ca77e57a9e5ULL);
+  std::uniform_real_distribution<double> log_delay(std::log(20.0), std::log(900.0)), move_s(5.0, 30.0);
+  std::vector<StageTimes> times;
+  double now_s = 0.0;
+  for (std::size_t s = 0; s < stages; ++s) {
+    if (s > 0) now_s += move_s(rng);
+    StageTimes t;
+    t.clamps_moved_at_s = now_s;
+    now_s += std::exp(log_delay(rng));
+    t.time_s = now_s;
+    times.push_back(t);
+  }
+  return times;
+}
+
 // The sheet's normal at a marker, on the side the markers are stuck to (the side facing up
 // when the sheet lies flat: the rest triangles are counter-clockwise in (u, v)).
 Vec3 marker_normal(const twin::MaterialPointLocation& at, const twin::VecX& x) {
@@ -123,15 +146,21 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
   const std::vector<std::vector<ClampPose>> true_poses = lab_stages(trial.clamps, rng);
   lab.true_stage1_poses = true_poses.front();
 
-  // The "real" sheet: the lab's material on the reference mesh.
-  const twin::ShellModel reference(
+  // The "real" sheet: the lab's material on the reference mesh, with the markers glued on (they
+  // weigh something only when the truth says so) and relaxing after each move if it does.
+  twin::ShellModel reference(
       twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
       truth);
+  const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
+  reference.set_marker_points(markers);
   const twin::ClampSet clamps(reference.mesh(), trial.clamps);
+  const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());
   for (std::size_t s = 0; s < true_poses.size(); ++s) {
     reference_stages[s].id = std::to_string(s + 1);
     reference_stages[s].poses = true_poses[s];
+    reference_stages[s].time_s = times[s].time_s;
+    reference_stages[s].clamps_moved_at_s = times[s].clamps_moved_at_s;
   }
   const twin::TrialSimulation simulated = twin::simulate_stages(reference, clamps, reference_stages);
   if (!simulated.usable()) {
@@ -139,13 +168,13 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
                                          config.specimen, config.seed, simulated.failure));
   }
 
-  const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   std::normal_distribution<double> marker_noise(0.0, config.marker_noise_m), probe_noise(0.0, config.probe_noise_m);
   for (std::size_t s = 0; s < true_poses.size(); ++s) {
     const twin::VecX& x = simulated.stages[s].x;
     twin::TrialStage stage;
     stage.id = reference_stages[s].id;
-    stage.time_s = 120.0 * static_cast<double>(s);  // a stage every two minutes
+    stage.time_s = reference_stages[s].time_s;
+    stage.clamps_moved_at_s = reference_stages[s].clamps_moved_at_s;
     stage.markers_file = stage.id + ".xyz";
     for (ClampPose pose : true_poses[s]) {
       if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));

@@ -7,7 +7,9 @@
 // clamp up (and toward the centre) by at most 350 mm; stage 5 releases a clamp. Observations:
 // per marker its position with scanner noise, markers under a closed clamp hidden (NaN);
 // clamp positions as a contact probe measures them (small noise); optionally the raw scan
-// around each seen marker (see marker_scan.h). Everything random comes from the seed.
+// around each seen marker (see marker_scan.h); per stage when its clamps stopped moving and
+// when it was scanned, 20 s to 15 min later (clamps_moved_at_s, time_s), which the reference
+// sheet's relaxation follows when the truth has it. Everything random comes from the seed.
 
 #include <cstdint>
 #include <optional>

@@ -163,6 +163,7 @@ void EquilibriumSensitivity::factorize() {
   }
   relative_smallest_eigenvalue_ = ratio;
   material_ = model_.material();
+  stiffness_factor_ = model_.stiffness_factor();
 }
 
 VecX EquilibriumSensitivity::solve(const VecX& rhs) const {
@@ -186,14 +187,16 @@ VecX EquilibriumSensitivity::solve(const VecX& rhs) const {
 VecX EquilibriumSensitivity::force_derivative(MaterialParameter parameter) {
   if (!factorized_for(model_.material())) {
     throw std::logic_error(
-        "EquilibriumSensitivity: the model's material changed since K was factorised (or the "
-        "last update failed); solve the new equilibrium and call update() first");
+        "EquilibriumSensitivity: the model's material or load age changed since K was factorised "
+        "(or the last update failed); solve the new equilibrium and call update() first");
   }
   return force_parameter_derivative(model_, dofs_, x_, parameter, relative_step_);
 }
 
 bool EquilibriumSensitivity::factorized_for(const Material& m) const {
   if (relative_smallest_eigenvalue_ <= 0.0) return false;
+  // The load age scales the stiffnesses of a relaxing material like a material change would.
+  if (model_.stiffness_factor() != stiffness_factor_) return false;
   for (MaterialParameter p : kAllMaterialParameters) {
     if (get_parameter(m, p) != get_parameter(material_, p)) return false;
   }

@@ -121,6 +121,7 @@ class EquilibriumSensitivity {
   double residual_ = 0.0;
   double relative_smallest_eigenvalue_ = 0.0;  // 0 while there is no valid factorisation
   Material material_;                         // the model's material when K was factorised
+  double stiffness_factor_ = 1.0;             // and its relaxation factor at the model's load age
 };
 
 }  // namespace twin

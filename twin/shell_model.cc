@@ -1,6 +1,10 @@
 #include "twin/shell_model.h"
 
+#include <cmath>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace twin {
 namespace {
@@ -29,11 +33,14 @@ std::vector<double> lumped_vertex_masses(const SheetMesh& mesh, double surface_d
 ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gravity_m_s2)
     : mesh_(validated(mesh)),
       material_(validated(material)),
+      load_age_s_(std::numeric_limits<double>::quiet_NaN()),
       masses_(lumped_vertex_masses(mesh_, material.surface_density_kg_m2)),
       membrane_(mesh_, material.membrane_stiffness()),
       bending_(mesh_, material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm),
       gravity_(masses_, gravity_m_s2) {
   apply_bending_effects(material_.effects);
+  // A relaxing material starts fully relaxed (the age is unknown until someone sets it).
+  if (stiffness_factor() != 1.0) update_stiffness(material_, load_age_s_);
 }
 
 void ShellModel::apply_bending_effects(const ModelEffects& effects) {
@@ -42,16 +49,61 @@ void ShellModel::apply_bending_effects(const ModelEffects& effects) {
   bending_.set_stiffening(effects.bending_stiffening_m2);
 }
 
-void ShellModel::set_material(const Material& material) {
-  material.validate();
+void ShellModel::update_stiffness(const Material& material, double age_s) {
+  const double factor = material.effects.relaxation_factor(age_s);
   // Bending first: it is the only update that can reject the material, and nothing else has
   // changed yet if it does.
-  bending_.set_rigidity(material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm);
+  bending_.set_rigidity(factor * material.bending_rigidity_u_Nm, factor * material.bending_rigidity_v_Nm);
+  membrane_.set_stiffness(factor * material.membrane_stiffness());
+}
+
+void ShellModel::update_masses() {
+  masses_ = lumped_vertex_masses(mesh_, material_.surface_density_kg_m2);
+  const double marker_kg = material_.effects.marker_mass_kg;
+  if (marker_kg != 0.0) {
+    for (const MaterialPointLocation& m : markers_) {
+      for (int k = 0; k < 3; ++k) masses_[m.vertices[k]] += marker_kg * m.weights(k);
+    }
+  }
+  gravity_.set_masses(masses_);
+}
+
+void ShellModel::set_material(const Material& material) {
+  material.validate();
+  update_stiffness(material, load_age_s_);
   apply_bending_effects(material.effects);  // cannot throw for a validated material
   material_ = material;
-  masses_ = lumped_vertex_masses(mesh_, material.surface_density_kg_m2);
-  membrane_.set_stiffness(material.membrane_stiffness());
-  gravity_.set_masses(masses_);
+  update_masses();
+}
+
+void ShellModel::set_marker_points(std::vector<MaterialPointLocation> markers) {
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    for (int v : markers[i].vertices) {
+      if (v < 0 || v >= vertex_count()) {
+        throw std::invalid_argument("ShellModel::set_marker_points: marker " + std::to_string(i) +
+                                    " names vertex " + std::to_string(v) + ", expected 0.." +
+                                    std::to_string(vertex_count() - 1));
+      }
+    }
+  }
+  markers_ = std::move(markers);
+  update_masses();
+}
+
+void ShellModel::set_marker_points(const MaterialPointMap& markers) {
+  std::vector<MaterialPointLocation> locations;
+  for (int i = 0; i < markers.size(); ++i) locations.push_back(markers.location(i));
+  set_marker_points(std::move(locations));
+}
+
+void ShellModel::set_load_age_s(double age_s) {
+  if (age_s < 0.0) {
+    throw std::invalid_argument("ShellModel::set_load_age_s: the age must be >= 0 s or NaN "
+                                "(unknown), got " + std::to_string(age_s));
+  }
+  // Same factor, nothing to update (always so without relaxation): most stages cost nothing.
+  if (material_.effects.relaxation_factor(age_s) != stiffness_factor()) update_stiffness(material_, age_s);
+  load_age_s_ = age_s;
 }
 
 double ShellModel::total_mass_kg() const {

@@ -4,12 +4,22 @@
 // for dynamics. Changing the material (as identification does thousands of times) updates the
 // terms in place; topology, calibration and colourings are built once. Of the optional effects
 // (model_effects.h) the rest curvature and the bending stiffening act through the bending term.
+//
+// Two effects of the material (model_effects.h) need more than the material to apply:
+//   - marker mass: where the scan markers are glued (set_marker_points). Each adds
+//     effects.marker_mass_kg, shared among its host triangle's vertices by barycentric weight,
+//     to the vertex masses that gravity and inertia use. Without markers (the cell's ply) the
+//     effect has nothing to act on.
+//   - viscoelastic relaxation: how long ago the clamps last moved (set_load_age_s). Tensile,
+//     shear and bending stiffness are the material's times effects.relaxation_factor(age).
+//     Whoever solves or differentiates a stage sets its age first (trial_simulation.h).
 
 #include <memory>
 
 #include "twin/bending_term.h"
 #include "twin/gravity_term.h"
 #include "twin/material.h"
+#include "twin/material_point.h"
 #include "twin/membrane_term.h"
 #include "twin/sheet_mesh.h"
 
@@ -23,11 +33,26 @@ class ShellModel {
   ShellModel(const ShellModel&) = delete;
   ShellModel& operator=(const ShellModel&) = delete;
 
+  // The material's stiffnesses enter scaled by the relaxation factor at the current load age.
   void set_material(const Material& material);
+
+  // Scan markers on the sheet (locations in this model's mesh; throws std::invalid_argument for
+  // a vertex id out of range). Replaces earlier ones; an empty list removes them.
+  void set_marker_points(std::vector<MaterialPointLocation> markers);
+  void set_marker_points(const MaterialPointMap& markers);
+  const std::vector<MaterialPointLocation>& marker_points() const { return markers_; }
+
+  // Seconds since the clamps last moved (NaN, the default: unknown, taken as fully relaxed).
+  // Throws std::invalid_argument for a negative age.
+  void set_load_age_s(double age_s);
+  double load_age_s() const { return load_age_s_; }
+  // The factor the stiffnesses carry now: material().effects.relaxation_factor(load_age_s()).
+  double stiffness_factor() const { return material_.effects.relaxation_factor(load_age_s_); }
 
   const SheetMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
   int vertex_count() const { return mesh_.vertex_count(); }
+  // Lumped sheet masses plus the markers' (kg).
   const std::vector<double>& vertex_masses_kg() const { return masses_; }
   double total_mass_kg() const;
 
@@ -40,9 +65,14 @@ class ShellModel {
 
  private:
   void apply_bending_effects(const ModelEffects& effects);
+  void update_masses();
+  // Throws (leaving the model as it was) if the bending term refuses the rigidities.
+  void update_stiffness(const Material& material, double age_s);
 
   SheetMesh mesh_;
   Material material_;
+  std::vector<MaterialPointLocation> markers_;
+  double load_age_s_;
   std::vector<double> masses_;
   MembraneTerm membrane_;
   BendingTerm bending_;

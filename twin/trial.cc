@@ -275,7 +275,7 @@ std::vector<Vec3> read_stage_cloud(const JsonField& f, const fs::path& directory
 }
 
 TrialStage read_stage(const JsonField& st, const fs::path& directory, const Trial& t) {
-  st.only_keys({"id", "time_s", "clamps", "markers_file", "cloud_file", "scan_file"});
+  st.only_keys({"id", "time_s", "clamps_moved_at_s", "clamps", "markers_file", "cloud_file", "scan_file"});
   TrialStage stage;
   stage.id = st["id"].string();
   if (!is_plain_file_word(stage.id)) {
@@ -285,6 +285,14 @@ TrialStage read_stage(const JsonField& st, const fs::path& directory, const Tria
     if (earlier.id == stage.id) st["id"].fail("\"" + stage.id + "\" is used by an earlier stage");
   }
   if (auto time = st.optional("time_s")) stage.time_s = time->number("s");
+  if (auto moved = st.optional("clamps_moved_at_s")) {
+    stage.clamps_moved_at_s = moved->number("s");
+    if (!stage.time_s) moved->fail("needs the stage's 'time_s' (when it was scanned)");
+    if (*stage.clamps_moved_at_s > *stage.time_s) {
+      moved->fail(fmt::format("is {} s, later than the stage's time_s {} s: the clamps must have "
+                              "reached their poses before the scan", *stage.clamps_moved_at_s, *stage.time_s));
+    }
+  }
   stage.poses = read_poses(st["clamps"], t);
   check_clamp_distances(st["clamps"], t, stage);
   if (st.has("markers_file") == st.has("cloud_file")) {
@@ -315,8 +323,13 @@ void read_stages(const JsonField& f, const fs::path& directory, Trial& t) {
                                         "stages are in the order they happened",
                                         *stage.time_s, *last_time_s));
       }
-      last_time_s = stage.time_s;
     }
+    // The clamps left the previous stage's poses after it was scanned.
+    if (stage.clamps_moved_at_s && last_time_s && *stage.clamps_moved_at_s < *last_time_s) {
+      f[i]["clamps_moved_at_s"].fail(fmt::format("is {} s, earlier than the {} s at which the stage before it "
+                                                 "was scanned", *stage.clamps_moved_at_s, *last_time_s));
+    }
+    if (stage.time_s) last_time_s = stage.time_s;
     t.stages.push_back(std::move(stage));
   }
 }

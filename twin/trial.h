@@ -16,6 +16,7 @@
 //     "clamps": [{"id": "A", "material_point_m": [u, v], "grip_radius_m": 0.02}, ...],
 //     "stages": [
 //       {"id": "1", "time_s": 0.0,                           (time optional)
+//        "clamps_moved_at_s": 0.0,                            (optional, see stage_age.h)
 //        "clamps": {"A": [x, y, z], "B": [x, y, z], "C": "released", ...},
 //        "markers_file": "1.xyz",                             (one x y z line per marker)
 //        "scan_file": "1_scan.xyz"},                          (optional raw scanner points)
@@ -51,7 +52,10 @@ struct StageObservation {
 
 struct TrialStage {
   std::string id;
-  std::optional<double> time_s;
+  std::optional<double> time_s;             // when the stage was scanned (s)
+  // When the clamps reached this stage's poses (s, <= time_s, >= the previous stage's time_s);
+  // absent: see stage_load_ages_s (stage_age.h) for the default.
+  std::optional<double> clamps_moved_at_s;
   // Per clamp, in Trial::clamps order: its pose at this stage (orientation identity: the
   // clamps' jaws stay level); engaged = false for a released clamp.
   std::vector<ClampPose> poses;

@@ -9,6 +9,7 @@
 
 #include "twin/observed_shape.h"
 #include "twin/scan_tether.h"
+#include "twin/stage_age.h"
 #include "twin/trial_simulation.h"
 
 namespace twin {
@@ -64,7 +65,10 @@ TrialEvaluator::TrialEvaluator(Trial trial, int twin_triangles, const Material& 
       markers_(std::make_unique<MaterialPointMap>(model_->mesh(), trial_.marker_uv_m)),
       placement_(fit_level_placement(trial_.clamps, trial_.stages.at(0).poses)),
       statics_(std::make_unique<StaticSolver>(*model_)),
-      sensitivities_(trial_.stages.size()) {}
+      sensitivities_(trial_.stages.size()),
+      ages_s_(stage_load_ages_s(trial_.stages)) {
+  model_->set_marker_points(*markers_);  // their mass, when the material gives them one
+}
 
 TrialEvaluator::~TrialEvaluator() = default;
 
@@ -109,6 +113,7 @@ bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material
     for (std::size_t j = 0; j < parameters.size(); ++j) set_parameter(m, parameters[j], from_search_coordinate(parameters[j], at(j)));
     model_->set_material(m);
     for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
+      model_->set_load_age_s(ages_s_[s]);
       const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), x[s]);
       fit.newton_iterations += r.iterations;
       if (!r.usable()) {
@@ -139,6 +144,7 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
     // the basin the real sheet was seen in. Keep whichever of the two the markers are nearer.
     const StageObservation& observed = trial_.stages[s].observed;
     if (observed.has_markers() && observed.seen_marker_count() >= 3) {
+      model_->set_load_age_s(ages_s_[s]);  // the equilibrium the scan saw: at the scan's age
       VecX from_scan = shape_from_markers(model_->mesh(), trial_.marker_uv_m, observed.markers_m);
       const SolveReport r = equilibrium_from_scan(*model_, clamps_, stage_poses(static_cast<int>(s)), *markers_,
                                                   observed.markers_m, from_scan);
@@ -194,6 +200,8 @@ void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialPara
     const StageFit& stage = fit.stages[s];
     const std::vector<Pairing> paired = pairings(trial_.stages[s].observed, *markers_, stage.x);
     if (paired.empty()) continue;
+    // K and dg/dp of this stage's equilibrium: the model at this stage's load age.
+    model_->set_load_age_s(ages_s_[s]);
     auto& sensitivity = sensitivities_[s];
     if (!sensitivity) {
       const DofMap dofs(clamps_.fixed_vertices(model_->vertex_count(), stage_poses(static_cast<int>(s))));
@@ -242,7 +250,9 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   }
   const VecX coordinates = search_coordinates(material, parameters);
   bool simulated = false;
+  double start_sum_squares_m2 = 0.0;
   if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(coordinates)) {
+    start_sum_squares_m2 = cached->sum_squares_m2;
     simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
   }
@@ -252,6 +262,17 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
     return finish();
   }
   score(fit);
+  if (fit.warm_started && fit.sum_squares_m2 > kBranchCheckRatio * start_sum_squares_m2) {
+    // Continued equilibria that fit far worse than those they started from may have been
+    // carried onto a branch the scans would not choose (seen fitting marker mass and bending
+    // together: L-BFGS then crept along a false valley). The material's fresh equilibria decide.
+    TrialFit again = evaluate(material, parameters, derivatives, true);
+    if (again.usable() && again.sum_squares_m2 < fit.sum_squares_m2) {
+      again.newton_iterations += fit.newton_iterations;
+      again.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return again;
+    }
+  }
   if (derivatives != Derivatives::kNone) {
     try {
       differentiate(fit, parameters, derivatives);

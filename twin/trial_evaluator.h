@@ -21,7 +21,12 @@
 // most a factor kMaterialStepRatio in every varied parameter (continuation in the material
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
 // stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
-// would be needed, the trial is simulated afresh.
+// would be needed, the trial is simulated afresh; also when the continued misfit is more than
+// kBranchCheckRatio times its start's and a fresh simulation fits better.
+//
+// Effects that need the trial (model_effects.h): the twin carries the trial's markers (their
+// mass, when the material gives them one), and every stage is solved and differentiated at its
+// load age (stage_age.h), so a relaxing material is stiffer in a stage scanned soon after a move.
 
 #include <memory>
 #include <optional>
@@ -73,6 +78,9 @@ class TrialEvaluator {
  public:
   static constexpr double kMaterialStepRatio = 1.5;
   static constexpr int kMaxMaterialSteps = 24;
+  // A continued simulation whose misfit S exceeds this multiple of its start's is checked
+  // against a fresh one (the better is kept): continuation can carry a fold onto a wrong branch.
+  static constexpr double kBranchCheckRatio = 4.0;
 
   // Builds the twin of the trial's sheet with about `twin_triangles` triangles. Throws
   // std::invalid_argument when markers or clamps are off the sheet or the material is invalid.
@@ -121,6 +129,7 @@ class TrialEvaluator {
   std::unique_ptr<StaticSolver> statics_;
   std::vector<std::unique_ptr<EquilibriumSensitivity>> sensitivities_;  // per stage, reused
   std::vector<CachedEquilibria> cache_;
+  std::vector<double> ages_s_;  // per stage, since the clamps last moved (stage_age.h)
 };
 
 }  // namespace twin

@@ -1,8 +1,11 @@
 #include "twin/trial_simulation.h"
 
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "twin/stage_age.h"
 
 namespace twin {
 
@@ -44,7 +47,7 @@ SheetPlacement fit_level_placement(const std::vector<ClampSpec>& clamps,
   return placement;
 }
 
-TrialSimulation simulate_stages(const ShellModel& model, const ClampSet& clamps,
+TrialSimulation simulate_stages(ShellModel& model, const ClampSet& clamps,
                                 const std::vector<TrialStage>& stages,
                                 const ContinuationOptions& options) {
   TrialSimulation result;
@@ -60,13 +63,26 @@ TrialSimulation simulate_stages(const ShellModel& model, const ClampSet& clamps,
   std::vector<ClampPose> poses(specs.size());
   for (ClampPose& p : poses) p.engaged = false;
   QuasiStaticSolver solver(model, clamps);
-  for (const TrialStage& stage : stages) {
+  const std::vector<double> ages_s = stage_load_ages_s(stages);
+  const bool relaxes = model.material().effects.relaxation_fraction != 0.0;
+  std::unique_ptr<StaticSolver> relaxation;  // only needed (and built) when the material relaxes
+  if (relaxes) relaxation = std::make_unique<StaticSolver>(model);
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const TrialStage& stage = stages[k];
     StageSimulation s;
     s.id = stage.id;
     // The clamps' jaws stay as they closed on the level sheet: they travel without turning.
     std::vector<ClampPose> target = stage.poses;
     for (ClampPose& p : target) p.rotation = placement.rotation;
+    model.set_load_age_s(0.0);  // the move: a fresh load (see the header)
     s.report = solver.move(poses, target, x, options);
+    if (s.report.usable() && relaxes) {
+      model.set_load_age_s(ages_s[k]);
+      const SolveReport relaxed = relaxation->solve(clamps, target, x, options.newton);
+      s.report.last = relaxed;
+      s.report.newton_iterations += relaxed.iterations;
+      s.report.factorizations += relaxed.factorizations;
+    }
     if (!s.report.usable()) {
       result.failure = fmt::format("stage {}: {}", stage.id, s.report.brief());
       result.stages.push_back(std::move(s));

@@ -33,7 +33,13 @@ SheetPlacement fit_level_placement(const std::vector<ClampSpec>& clamps,
                                    const std::vector<ClampPose>& poses);
 
 // Runs every stage of `stages` (clamps in ClampSet order). Stops at the first stage that fails.
-TrialSimulation simulate_stages(const ShellModel& model, const ClampSet& clamps,
+// Load ages (stage_age.h), for a material with viscoelastic relaxation: the clamps travel with
+// the model at age 0 (a move takes seconds, the relaxation minutes: the sheet answers a move
+// with its unrelaxed stiffness, and the quasi-elastic model keeps no memory of earlier loads),
+// then the stage's equilibrium is solved again at the stage's age with the clamps where they
+// stopped (the sheet relaxing until the scan). Without relaxation the age changes nothing and
+// that second solve is skipped. The model is left at the last simulated stage's age.
+TrialSimulation simulate_stages(ShellModel& model, const ClampSet& clamps,
                                 const std::vector<TrialStage>& stages,
                                 const ContinuationOptions& options = {});
 

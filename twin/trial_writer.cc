@@ -97,9 +97,14 @@ ordered_json stage_json(const Trial& t, const TrialStage& stage) {
     throw std::invalid_argument(fmt::format("write_trial: stage '{}' has {} marker positions for {} markers",
                                             stage.id, stage.observed.markers_m.size(), t.marker_uv_m.size()));
   }
+  if (stage.clamps_moved_at_s && !(stage.time_s && *stage.clamps_moved_at_s <= *stage.time_s)) {
+    throw std::invalid_argument(fmt::format("write_trial: stage '{}' has clamps_moved_at_s without a "
+                                            "time_s at or after it", stage.id));
+  }
   ordered_json j;
   j["id"] = stage.id;
   if (stage.time_s) j["time_s"] = *stage.time_s;
+  if (stage.clamps_moved_at_s) j["clamps_moved_at_s"] = *stage.clamps_moved_at_s;
   j["clamps"] = stage_clamps_json(t, stage);
   j[stage.observed.has_markers() ? "markers_file" : "cloud_file"] = observation_file_name(stage);
   if (!stage.scan_file.empty()) j["scan_file"] = stage.scan_file;
