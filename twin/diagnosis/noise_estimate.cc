@@ -12,24 +12,38 @@ namespace {
 // Median of the chi-square distribution with one degree of freedom.
 constexpr double kChiSquare1Median = 0.454936423119572;
 constexpr int kNeighbours = 8;
+// Third differences cancel a locally quadratic field, not only a linear one: on a lab trial
+// with twice the bending rigidity (residual RMS 3.5 mm, sigma 0.3 mm) the estimate was 25 %
+// high from second differences, 18 % from third, 15 % from fourth (whose reach, five markers,
+// leaves fewer differences on small grids).
+constexpr int kGridDifferenceOrder = 3;
 
-// Second differences along the rows and columns of a marker grid: d^2 / 6 per coordinate.
-void grid_differences(const ResidualField& field, const std::vector<int>& samples, int rows, int cols,
+// Differences of order `order` along the rows and columns of a marker grid, d = sum_k c_k r(k)
+// with binomial weights of alternating sign: d^2 / sum c_k^2 per coordinate.
+void grid_differences(const ResidualField& field, const std::vector<int>& samples, int rows, int cols, int order,
                       std::vector<double>& scaled) {
   std::vector<const Vec3*> at(static_cast<std::size_t>(rows) * cols, nullptr);
   for (int i : samples) {
     const int m = field.samples[i].marker;
     if (m >= 0 && m < rows * cols) at[m] = &field.samples[i].residual_m;
   }
-  auto add = [&](int a, int b, int c) {
-    if (!at[a] || !at[b] || !at[c]) return;
-    const Vec3 d = *at[a] - 2.0 * *at[b] + *at[c];
-    for (int k = 0; k < 3; ++k) scaled.push_back(d(k) * d(k) / 6.0);
+  std::vector<double> c(order + 1, 1.0);
+  for (int k = 1; k <= order; ++k) c[k] = -c[k - 1] * (order - k + 1) / k;
+  double norm = 0.0;
+  for (double w : c) norm += w * w;
+  auto add = [&](int first, int step) {
+    Vec3 d = Vec3::Zero();
+    for (int k = 0; k <= order; ++k) {
+      const Vec3* r = at[first + k * step];
+      if (!r) return;
+      d += c[k] * *r;
+    }
+    for (int k = 0; k < 3; ++k) scaled.push_back(d(k) * d(k) / norm);
   };
   for (int r = 0; r < rows; ++r)
-    for (int c = 1; c + 1 < cols; ++c) add(r * cols + c - 1, r * cols + c, r * cols + c + 1);
-  for (int r = 1; r + 1 < rows; ++r)
-    for (int c = 0; c < cols; ++c) add((r - 1) * cols + c, r * cols + c, (r + 1) * cols + c);
+    for (int col = 0; col + order < cols; ++col) add(r * cols + col, 1);
+  for (int r = 0; r + order < rows; ++r)
+    for (int col = 0; col < cols; ++col) add(r * cols + col, cols);
 }
 
 // Each marker against the plane (in u, v) fitted to its nearest neighbours' residuals:
@@ -76,7 +90,7 @@ NoiseEstimate estimate_noise(const ResidualField& field) {
     const FieldTrial& trial = field.trials.at(field.stages[s].trial);
     const std::size_t before = scaled.size();
     if (trial.grid_rows && trial.grid_cols && *trial.grid_rows * *trial.grid_cols == trial.marker_count) {
-      grid_differences(field, samples, *trial.grid_rows, *trial.grid_cols, scaled);
+      grid_differences(field, samples, *trial.grid_rows, *trial.grid_cols, kGridDifferenceOrder, scaled);
       used_grid = used_grid || scaled.size() > before;
     } else {
       neighbour_differences(field, samples, scaled);
@@ -92,8 +106,8 @@ NoiseEstimate estimate_noise(const ResidualField& field) {
   NoiseEstimate out;
   out.sigma_m = std::sqrt(*mid / kChiSquare1Median);
   out.differences_used = static_cast<int>(scaled.size());
-  out.method = used_grid && used_neighbours ? "grid second differences and neighbour planes"
-               : used_grid                  ? "grid second differences"
+  out.method = used_grid && used_neighbours ? "grid third differences and neighbour planes"
+               : used_grid                  ? "grid third differences"
                                             : "neighbour planes";
   return out;
 }

@@ -40,12 +40,15 @@ void write_sentences(const ResidualField& field, const AnalysisOptions& o, Resid
   const ChiSquareTest& t = a.overall;
   if (t.significant)
     out.push_back(fmt::format("The residual exceeds the noise: RMS {:.3f} mm per coordinate against sigma {:.3f} mm "
-                              "(chi2 {:.0f} for {:.0f} dof, p = {}).",
-                              1e3 * t.rms_m, 1e3 * a.sigma_m, t.chi_square, t.dof, fmt_p(t.p_value)));
+                              "(chi2 {:.0f} for {:.0f} dof at {:.3f} mm with the tolerated model error, p = {}).",
+                              1e3 * t.rms_m, 1e3 * a.sigma_m, t.chi_square, t.dof, 1e3 * a.null_sigma_m,
+                              fmt_p(t.p_value)));
   else
     out.push_back(fmt::format("The residual is consistent with noise: RMS {:.3f} mm per coordinate against sigma "
-                              "{:.3f} mm (chi2 {:.0f} for {:.0f} dof, p = {}).",
-                              1e3 * t.rms_m, 1e3 * a.sigma_m, t.chi_square, t.dof, fmt_p(t.p_value)));
+                              "{:.3f} mm (chi2 {:.0f} for {:.0f} dof at {:.3f} mm with the tolerated model error, "
+                              "p = {}).",
+                              1e3 * t.rms_m, 1e3 * a.sigma_m, t.chi_square, t.dof, 1e3 * a.null_sigma_m,
+                              fmt_p(t.p_value)));
   std::vector<std::string> stages, regions;
   for (std::size_t s = 0; s < a.stages.size(); ++s) {
     if (a.stages[s].test.significant)
@@ -62,6 +65,8 @@ void write_sentences(const ResidualField& field, const AnalysisOptions& o, Resid
                               fmt::join(regions.begin(), regions.begin() + static_cast<std::ptrdiff_t>(shown), "; "),
                               regions.size() > shown ? "; ..." : ""));
   }
+  // The structure of a residual that is noise is the noise's: not worth a sentence.
+  if (!a.any_significant()) return;
   const DirectionStructure& d = a.direction;
   const std::string shares = fmt::format("(a cubic in u explains {:.0f} % of the normal residual's variance, in v "
                                          "{:.0f} %)",
@@ -109,12 +114,16 @@ ResidualAnalysis analyse_residuals(const ResidualField& field, double sigma_m, c
   a.sigma_m = sigma_m;
   std::vector<int> all(field.samples.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  a.overall = make_test(field, all, sigma_m, field.fitted_parameters);
+  if (!(options.tolerated_model_error >= 0.0))
+    throw std::invalid_argument("residual analysis: the tolerated model error must be >= 0");
+  const double null_sigma = sigma_m * std::sqrt(1.0 + options.tolerated_model_error * options.tolerated_model_error);
+  a.null_sigma_m = null_sigma;
+  a.overall = make_test(field, all, null_sigma, field.fitted_parameters);
   a.tests = 1;
   for (int s = 0; s < static_cast<int>(field.stages.size()); ++s) {
     StageResult result;
     const std::vector<int> idx = field.samples_of_stage(s);
-    result.test = make_test(field, idx, sigma_m, 0.0);
+    result.test = make_test(field, idx, null_sigma, 0.0);
     a.tests += result.test.tested() ? 1 : 0;
     const FieldTrial& trial = field.trials.at(field.stages[s].trial);
     const Vec2 size = trial.sheet_max_uv_m - trial.sheet_min_uv_m;
@@ -135,7 +144,7 @@ ResidualAnalysis analyse_residuals(const ResidualField& field, double sigma_m, c
         r.max_uv_m = r.min_uv_m + cell;
         const auto& m = members[static_cast<std::size_t>(row) * options.region_cols + col];
         if (static_cast<int>(m.size()) >= options.min_region_samples) {
-          r.test = make_test(field, m, sigma_m, 0.0);
+          r.test = make_test(field, m, null_sigma, 0.0);
           ++a.tests;
         }
         result.regions.push_back(r);
@@ -149,7 +158,7 @@ ResidualAnalysis analyse_residuals(const ResidualField& field, double sigma_m, c
     judge(s.test);
     for (RegionResult& r : s.regions) judge(r.test);
   }
-  a.direction = analyse_direction(field, sigma_m, options.alpha);
+  a.direction = analyse_direction(field, null_sigma, options.alpha);
   a.correlations = analyse_correlations(field, options.alpha);
   write_sentences(field, options, a);
   return a;

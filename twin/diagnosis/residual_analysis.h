@@ -8,12 +8,18 @@
 // (the sheet's bounding box in material coordinates cut into rows x cols regions). A test is
 // significant when its upper-tail p-value is below alpha / (number of tests made): Bonferroni,
 // so that pure noise flags nothing with probability >= 1 - alpha over the whole analysis.
+// Tolerated model error: no twin is exact (solver tolerances, the clamps' probed positions, the
+// mesh), and with thousands of dof a chi-square test flags an excess variance of a few percent
+// that no one would call a missing effect. So the null hypothesis is "noise plus a model error
+// of RMS up to tau sigma per coordinate": the tests use sigma_null = sigma sqrt(1 + tau^2)
+// (tau = AnalysisOptions::tolerated_model_error, default 0.5: a twin whose residual RMS is
+// within ~12 % of the noise is not flagged). tau = 0 tests against the noise alone.
 //
-// Structure (sentences plus the numbers behind them):
+// Structure (numbers always; sentences only when something is significant):
 //  - warp/weft: of the normal-component residual's variance (per-stage means removed), the
 //    fraction explained by a cubic in u alone and by a cubic in v alone (per-stage
 //    coefficients), each with the p-value of its explained sum of squares / sigma^2 as chi-square
-//    (known sigma) with 3 dof per stage; "varies along u
+//    (known sigma_null) with 3 dof per stage; "varies along u
 //    (weft)" when u explains clearly more than v and is significant, and conversely.
 //  - Pearson correlation of |residual| with distance from the clamps and predicted curvature
 //    (over samples), and of the stage's RMS residual with stage load and stage age (over
@@ -30,7 +36,7 @@
 namespace twin::diagnosis {
 
 struct ChiSquareTest {
-  double chi_square = 0.0;   // sum r^2 / sigma^2
+  double chi_square = 0.0;   // sum r^2 / sigma_null^2
   double dof = 0.0;
   double p_value = 1.0;
   bool significant = false;  // p_value < the Bonferroni level
@@ -41,6 +47,7 @@ struct ChiSquareTest {
 
 struct AnalysisOptions {
   double alpha = 0.05;       // family-wise error rate of the whole analysis
+  double tolerated_model_error = 0.5;  // tau: model error RMS not flagged, as a fraction of sigma
   int region_rows = 3;       // regions along v
   int region_cols = 3;       // regions along u
   int min_region_samples = 3;  // smaller regions are not tested
@@ -74,6 +81,7 @@ struct DirectionStructure {
 
 struct ResidualAnalysis {
   double sigma_m = 0.0;
+  double null_sigma_m = 0.0;      // sigma sqrt(1 + tau^2), what the chi-square tests use
   double bonferroni_level = 0.0;  // alpha / tests
   int tests = 0;
   ChiSquareTest overall;

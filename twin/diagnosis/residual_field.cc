@@ -8,8 +8,6 @@
 
 #include <Eigen/Dense>
 
-#include "twin/dihedral_angle.h"
-#include "twin/hinge_bending.h"
 #include "twin/material_point.h"
 
 namespace twin::diagnosis {
@@ -96,40 +94,39 @@ std::vector<Vec3> vertex_normals(const SheetMesh& mesh, const VecX& x) {
 }
 
 std::vector<double> vertex_curvatures_1_m(const SheetMesh& mesh, const VecX& x) {
-  // Across hinge e the sheet turns by theta over the distance between the two triangles'
-  // centroids measured across the edge, d = 2 (A_a + A_b) / (3 |e|): normal curvature theta / d
-  // in the direction t perpendicular to the edge (rest material frame). Per vertex, the tensor
-  // K (uu, vv, uv) with t^T K t closest to its incident hinges' curvatures (least squares).
-  const std::vector<Hinge> hinges = build_hinges(mesh);
+  // Shape operator from the vertex normals: in each triangle the normal's gradient over the
+  // material coordinates, G = dn/d(u, v) (3 x 2), and the deformation gradient F = dx/d(u, v);
+  // the curvature tensor is K = -sym(F^T G) (1/m, material frame, exact for an isometric
+  // bending). Per vertex, the area-weighted mean of its triangles' K. Dihedral angles across
+  // single hinges are not used: on a mesh inscribed in a curved surface the triangles' normals
+  // tilt alternately (a discretisation pattern, not curvature), which the smoothed vertex
+  // normals average out.
+  const std::vector<Vec3> normals = vertex_normals(mesh, x);
   const int n = mesh.vertex_count();
-  std::vector<std::vector<std::pair<Vec2, double>>> rows(n);
-  for (const Hinge& h : hinges) {
-    Vec12 xh;
-    for (int k = 0; k < 4; ++k) xh.segment<3>(3 * k) = x.segment<3>(3 * h.v[k]);
-    const double theta = dihedral_angle(xh, nullptr, nullptr);
-    if (!std::isfinite(theta)) continue;
-    const Vec2 e = mesh.rest_uv[h.v[1]] - mesh.rest_uv[h.v[0]];
-    const double len = e.norm();
-    const double d = 2.0 * (mesh.rest_area(h.triangle_a) + mesh.rest_area(h.triangle_b)) / (3.0 * len);
-    const Vec2 t(-e.y() / len, e.x() / len);
-    for (int k = 0; k < 2; ++k) rows[h.v[k]].emplace_back(t, theta / d);
+  std::vector<Mat2> sum(n, Mat2::Zero());
+  std::vector<double> weight(n, 0.0);
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    Mat2 duv;
+    duv.col(0) = mesh.rest_uv[tri[1]] - mesh.rest_uv[tri[0]];
+    duv.col(1) = mesh.rest_uv[tri[2]] - mesh.rest_uv[tri[0]];
+    const double det = duv.determinant();
+    if (std::abs(det) <= 1e-300) continue;
+    const Mat2 inv = duv.inverse();
+    Eigen::Matrix<double, 3, 2> dx, dn;
+    dx.col(0) = x.segment<3>(3 * tri[1]) - x.segment<3>(3 * tri[0]);
+    dx.col(1) = x.segment<3>(3 * tri[2]) - x.segment<3>(3 * tri[0]);
+    dn.col(0) = normals[tri[1]] - normals[tri[0]];
+    dn.col(1) = normals[tri[2]] - normals[tri[0]];
+    const Eigen::Matrix<double, 3, 2> F = dx * inv, G = dn * inv;
+    const Mat2 FG = F.transpose() * G;
+    const Mat2 K = -0.5 * (FG + FG.transpose());
+    const double area = 0.5 * std::abs(det);
+    for (int v : tri) sum[v] += area * K, weight[v] += area;
   }
   std::vector<double> out(n, 0.0);
-  for (int v = 0; v < n; ++v) {
-    const auto& r = rows[v];
-    if (r.empty()) continue;
-    Eigen::MatrixXd A(r.size(), 3);
-    Eigen::VectorXd b(r.size());
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      const Vec2& t = r[i].first;
-      A.row(i) << t.x() * t.x(), t.y() * t.y(), 2.0 * t.x() * t.y();
-      b(i) = r[i].second;
-    }
-    // Minimum-norm solution: a boundary vertex with one or two hinges gets the tensor of least
-    // size that explains them.
-    const Eigen::Vector3d k = A.completeOrthogonalDecomposition().solve(b);
-    out[v] = std::sqrt(k(0) * k(0) + k(1) * k(1) + 2.0 * k(2) * k(2));
-  }
+  for (int v = 0; v < n; ++v)
+    if (weight[v] > 0.0) out[v] = (sum[v] / weight[v]).norm();  // Frobenius: sqrt(k1^2 + k2^2)
   return out;
 }
 

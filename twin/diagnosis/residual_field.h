@@ -74,7 +74,8 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
                          const std::string& name = "");
 
 // Per-vertex curvature magnitude sqrt(k1^2 + k2^2) (1/m) of the sheet at positions x: the
-// curvature tensor fitted per vertex to the normal curvatures across its incident hinges.
+// curvature tensor from the gradient of the vertex normals over each triangle, averaged over
+// the vertex's triangles.
 std::vector<double> vertex_curvatures_1_m(const SheetMesh& mesh, const VecX& x);
 
 // Per-vertex unit normals (area-weighted) of the sheet at positions x.
