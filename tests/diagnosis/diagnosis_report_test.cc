@@ -103,6 +103,7 @@ TEST_CASE("the terminal summary fits one screen and carries the verdict", "[diag
     CHECK(count <= 25);
     CHECK(text.find(data.verdict_line) != std::string::npos);
     CHECK(text.find("sigma 0.300 mm") != std::string::npos);
+    CHECK(text.find("\n  bending_v  0.012  [0.010, 0.014]\n") != std::string::npos);
   }
 }
 

@@ -57,7 +57,7 @@ std::string yes(bool b) { return b ? "**yes**" : "no"; }
 
 void write_phase_section(std::ostream& md, const ReportData& data, const ReportPhase& p) {
   md << "\n## " << p.name << " trials\n\n";
-  md << "Before (" << p.before.trials.size() << " trials, " << p.before.stages.size() << " marker stages):\n\n";
+  md << "Before (trials: " << p.before.trials.size() << ", marker stages: " << p.before.stages.size() << "):\n\n";
   for (const std::string& line : p.before_analysis.sentences) md << "- " << line << "\n";
   if (p.after_analysis) {
     md << "\n" << data.after_label << ":\n\n";

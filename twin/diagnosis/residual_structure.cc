@@ -87,8 +87,10 @@ DirectionStructure analyse_direction(const ResidualField& field, double sigma_m,
   // With sigma known, the explained sum of squares of pure noise is sigma^2 chi-square(dof).
   out.p_u = chi_square_upper_tail(by_u / (sigma_m * sigma_m), dof);
   out.p_v = chi_square_upper_tail(by_v / (sigma_m * sigma_m), dof);
-  if (out.p_u < alpha && out.explained_by_u >= kDominance * out.explained_by_v) out.direction = "u";
-  else if (out.p_v < alpha && out.explained_by_v >= kDominance * out.explained_by_u) out.direction = "v";
+  // Built as temporaries and moved: assigning the literal trips GCC 12's false -Wrestrict
+  // (its bug 105651) in std::string::_M_replace.
+  if (out.p_u < alpha && out.explained_by_u >= kDominance * out.explained_by_v) out.direction = std::string(1, 'u');
+  else if (out.p_v < alpha && out.explained_by_v >= kDominance * out.explained_by_u) out.direction = std::string(1, 'v');
   return out;
 }
 

@@ -23,23 +23,26 @@ double mean_error_mm(const ResidualField& f) {
 // Word-wraps text to kMaxColumns, continuation lines indented by `indent`.
 std::vector<std::string> wrap(const std::string& text, const std::string& indent) {
   std::vector<std::string> lines;
-  std::string line, word;
+  // Leading spaces are kept (table rows are indented under their heading).
+  const std::size_t lead = std::min(text.find_first_not_of(' '), text.size());
+  std::string line = text.substr(0, lead), word;
   auto flush_word = [&] {
     if (word.empty()) return;
-    if (!line.empty() && line.size() + 1 + word.size() > kMaxColumns) {
+    const bool fresh = line.size() == lead || line == indent;
+    if (!fresh && line.size() + 1 + word.size() > kMaxColumns) {
       lines.push_back(line);
       line = indent;
     }
-    if (!line.empty() && line != indent) line += ' ';
+    if (!fresh && line != indent) line += ' ';
     line += word;
     word.clear();
   };
-  for (char c : text) {
+  for (char c : text.substr(lead)) {
     if (c == ' ') flush_word();
     else word += c;
   }
   flush_word();
-  if (!line.empty()) lines.push_back(line);
+  if (line.size() > lead) lines.push_back(line);
   for (std::string& l : lines)
     if (l.size() > kMaxColumns) l = l.substr(0, kMaxColumns - 3) + "...";
   return lines;
