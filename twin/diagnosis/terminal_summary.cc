@@ -22,6 +22,7 @@ double mean_error_mm(const ResidualField& f) {
 
 // Word-wraps text to kMaxColumns, continuation lines indented by `indent`.
 std::vector<std::string> wrap(const std::string& text, const std::string& indent) {
+  if (text.size() <= kMaxColumns) return {text};  // as it is, spacing included
   std::vector<std::string> lines;
   // Leading spaces are kept (table rows are indented under their heading).
   const std::size_t lead = std::min(text.find_first_not_of(' '), text.size());
