@@ -76,7 +76,7 @@ TEST_CASE("the report is markdown with well-formed SVG maps, one circle per seen
   CHECK(count_of(read_text((out / "figures" / "train_stage_2.svg").string()), "stroke-dasharray") > 0);
 }
 
-TEST_CASE("a second report replaces the first; without an effect there are no after panels", "[diagnosis]") {
+TEST_CASE("a second report replaces the first, and without an effect there are no after panels", "[diagnosis]") {
   testing_support::TempDir dir("diagnosis_report");
   dx::write_report(report_data(true), dir / "out");
   const dx::ReportData none = report_data(false);

@@ -47,7 +47,7 @@ TEST_CASE("pure noise at its own sigma is not significant, and false alarms are 
   CHECK(notable_structure <= 0.1 * 4 * kRuns);
 }
 
-TEST_CASE("a model error within the tolerance is not flagged; tested against the noise alone it is", "[diagnosis]") {
+TEST_CASE("a model error within the tolerance is not flagged, but tested against the noise alone it is", "[diagnosis]") {
   SyntheticOptions o;
   // A smooth error of RMS ~0.4 sigma per coordinate: z = 0.4 sigma sqrt(3) sin(...) over the sheet.
   const auto small = [](const Vec2& uv, int) { return Vec3(0, 0, 0.4 * 0.3e-3 * std::sqrt(6.0) * std::sin(6.0 * uv.x())); };
