@@ -106,3 +106,14 @@ TEST_CASE("with twice the bending rigidity the residual is significant, and the 
   }
   CHECK(dx::terminal_summary(data).find("at the truth") != std::string::npos);
 }
+
+TEST_CASE("an unusable fit cannot make a residual field, and the error names the trial", "[diagnosis][lab]") {
+  twin::TrialEvaluator evaluator(lab_trial().trial, kTriangles, lab_trial().truth);
+  twin::TrialFit failed;
+  failed.failure = "stage 3: iteration limit";
+  dx::ResidualField field;
+  CHECK_THROWS_WITH(dx::add_trial_residuals(field, evaluator, failed, "lab_a"),
+                    Catch::Contains("lab_a") && Catch::Contains("stage 3: iteration limit"));
+  CHECK(field.trials.empty());
+  CHECK_THROWS_WITH(dx::analyse_residuals(field, 0.3e-3), Catch::Contains("no samples"));
+}
