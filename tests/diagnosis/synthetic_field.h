@@ -58,6 +58,7 @@ inline ResidualField synthetic_field(const SyntheticOptions& o, const Shape& sha
         m.uv_m = Vec2((c + 0.5) * spacing.x(), (r + 0.5) * spacing.y());
         if (!o.grid) m.uv_m += Vec2(jitter(rng) * spacing.x(), jitter(rng) * spacing.y());
         m.residual_m = shape(m.uv_m, s) + Vec3(noise(rng), noise(rng), noise(rng));
+        m.observed_m = Vec3(m.uv_m.x(), m.uv_m.y(), 1.0) + m.residual_m;  // predicted: the sheet flat at z = 1 m
         m.normal = Vec3::UnitZ();
         m.normal_residual_m = m.residual_m.z();
         m.clamp_distance_m = (m.uv_m - Vec2(0.0, o.height_m)).norm();  // one clamp at the top-left corner

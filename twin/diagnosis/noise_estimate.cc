@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -12,6 +13,7 @@ namespace {
 // Median of the chi-square distribution with one degree of freedom.
 constexpr double kChiSquare1Median = 0.454936423119572;
 constexpr int kNeighbours = 8;
+constexpr std::size_t kMinDifferences = 16;
 // Third differences cancel a locally quadratic field, not only a linear one: on a lab trial
 // with twice the bending rigidity (residual RMS 3.5 mm, sigma 0.3 mm) the estimate was 25 %
 // high from second differences, 18 % from third, 15 % from fourth (whose reach, five markers,
@@ -20,12 +22,12 @@ constexpr int kGridDifferenceOrder = 3;
 
 // Differences of order `order` along the rows and columns of a marker grid, d = sum_k c_k r(k)
 // with binomial weights of alternating sign: d^2 / sum c_k^2 per coordinate.
-void grid_differences(const ResidualField& field, const std::vector<int>& samples, int rows, int cols, int order,
-                      std::vector<double>& scaled) {
+void grid_differences(const ResidualField& field, const std::vector<int>& samples, Vec3 ResidualSample::*value, int rows,
+                      int cols, int order, std::vector<double>& scaled) {
   std::vector<const Vec3*> at(static_cast<std::size_t>(rows) * cols, nullptr);
   for (int i : samples) {
     const int m = field.samples[i].marker;
-    if (m >= 0 && m < rows * cols) at[m] = &field.samples[i].residual_m;
+    if (m >= 0 && m < rows * cols) at[m] = &(field.samples[i].*value);
   }
   std::vector<double> c(order + 1, 1.0);
   for (int k = 1; k <= order; ++k) c[k] = -c[k - 1] * (order - k + 1) / k;
@@ -48,7 +50,7 @@ void grid_differences(const ResidualField& field, const std::vector<int>& sample
 
 // Each marker against the plane (in u, v) fitted to its nearest neighbours' residuals:
 // d^2 / (1 + h) per coordinate, h = x0^T (X^T X)^-1 x0 the plane's variance factor at the marker.
-void neighbour_differences(const ResidualField& field, const std::vector<int>& samples,
+void neighbour_differences(const ResidualField& field, const std::vector<int>& samples, Vec3 ResidualSample::*value,
                            std::vector<double>& scaled) {
   const int n = static_cast<int>(samples.size());
   if (n < kNeighbours + 1) return;
@@ -66,7 +68,7 @@ void neighbour_differences(const ResidualField& field, const std::vector<int>& s
       const ResidualSample& s = field.samples[samples[b]];
       // Centred on the marker, so the plane's value there is its intercept.
       X.row(row) << 1.0, s.uv_m.x() - uv.x(), s.uv_m.y() - uv.y();
-      Y.row(row) = s.residual_m.transpose();
+      Y.row(row) = (s.*value).transpose();
       ++row;
     }
     const Eigen::Matrix3d XtX = X.transpose() * X;
@@ -75,40 +77,61 @@ void neighbour_differences(const ResidualField& field, const std::vector<int>& s
     const Eigen::Matrix3d coef = ldlt.solve(X.transpose() * Y);
     const double h = ldlt.solve(Eigen::Vector3d::UnitX())(0);
     if (!std::isfinite(h) || h <= 0.0) continue;
-    const Vec3 d = field.samples[samples[a]].residual_m - coef.row(0).transpose();
+    const Vec3 d = field.samples[samples[a]].*value - coef.row(0).transpose();
     for (int k = 0; k < 3; ++k) scaled.push_back(d(k) * d(k) / (1.0 + h));
   }
 }
 
-}  // namespace
+// The robust scale of the differences of one quantity of every sample (residual or observation).
+struct Scale {
+  double sigma_m = std::numeric_limits<double>::infinity();
+  int count = 0;
+  bool grid = false, neighbours = false;
+};
 
-NoiseEstimate estimate_noise(const ResidualField& field) {
+Scale difference_scale(const ResidualField& field, Vec3 ResidualSample::*value) {
   std::vector<double> scaled;
-  bool used_grid = false, used_neighbours = false;
+  Scale out;
   for (int s = 0; s < static_cast<int>(field.stages.size()); ++s) {
     const std::vector<int> samples = field.samples_of_stage(s);
     const FieldTrial& trial = field.trials.at(field.stages[s].trial);
     const std::size_t before = scaled.size();
     if (trial.grid_rows && trial.grid_cols && *trial.grid_rows * *trial.grid_cols == trial.marker_count) {
-      grid_differences(field, samples, *trial.grid_rows, *trial.grid_cols, kGridDifferenceOrder, scaled);
-      used_grid = used_grid || scaled.size() > before;
+      grid_differences(field, samples, value, *trial.grid_rows, *trial.grid_cols, kGridDifferenceOrder, scaled);
+      out.grid = out.grid || scaled.size() > before;
     } else {
-      neighbour_differences(field, samples, scaled);
-      used_neighbours = used_neighbours || scaled.size() > before;
+      neighbour_differences(field, samples, value, scaled);
+      out.neighbours = out.neighbours || scaled.size() > before;
     }
   }
-  if (scaled.size() < 16)
-    throw std::invalid_argument("noise estimate: only " + std::to_string(scaled.size()) +
-                                " scalar marker differences in the residual field; expected at least 16 "
-                                "(give the noise level instead)");
+  out.count = static_cast<int>(scaled.size());
+  if (scaled.size() < kMinDifferences) return out;
   const auto mid = scaled.begin() + static_cast<std::ptrdiff_t>(scaled.size() / 2);
   std::nth_element(scaled.begin(), mid, scaled.end());
-  NoiseEstimate out;
   out.sigma_m = std::sqrt(*mid / kChiSquare1Median);
-  out.differences_used = static_cast<int>(scaled.size());
-  out.method = used_grid && used_neighbours ? "grid third differences and neighbour planes"
-               : used_grid                  ? "grid third differences"
-                                            : "neighbour planes";
+  return out;
+}
+
+}  // namespace
+
+NoiseEstimate estimate_noise(const ResidualField& field) {
+  const Scale residual = difference_scale(field, &ResidualSample::residual_m);
+  if (residual.count < static_cast<int>(kMinDifferences))
+    throw std::invalid_argument("noise estimate: only " + std::to_string(residual.count) +
+                                " scalar marker differences in the residual field; expected at least " +
+                                std::to_string(kMinDifferences) + " (give the noise level instead)");
+  const Scale observed = difference_scale(field, &ResidualSample::observed_m);
+  NoiseEstimate out;
+  out.from_residuals_m = residual.sigma_m;
+  out.from_observations_m = observed.sigma_m;
+  const bool use_observed = observed.sigma_m < residual.sigma_m;
+  const Scale& used = use_observed ? observed : residual;
+  out.sigma_m = used.sigma_m;
+  out.differences_used = used.count;
+  out.method = std::string(used.grid && used.neighbours ? "grid third differences and neighbour planes"
+                           : used.grid                  ? "grid third differences"
+                                                        : "neighbour planes") +
+               (use_observed ? " of the observed markers" : " of the residuals");
   return out;
 }
 

@@ -181,6 +181,7 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
       sample.marker = static_cast<int>(m);
       sample.uv_m = trial.marker_uv_m[m];
       sample.residual_m = o - predicted[m];
+      sample.observed_m = o;
       Vec3 normal = Vec3::Zero();
       double kappa = 0.0;
       for (int k = 0; k < 3; ++k) {

@@ -21,6 +21,7 @@ struct ResidualSample {
   int marker = 0;  // manifest index in its trial
   Vec2 uv_m = Vec2::Zero();           // material coordinates (m)
   Vec3 residual_m = Vec3::Zero();     // observed - predicted (m, world)
+  Vec3 observed_m = Vec3::Zero();     // the observed position (m, world)
   Vec3 normal = Vec3::UnitZ();        // predicted unit sheet normal at the marker
   double normal_residual_m = 0.0;     // residual . normal (m): what bending and mass errors move
   double clamp_distance_m = 0.0;      // material distance to the nearest engaged clamp's grip
