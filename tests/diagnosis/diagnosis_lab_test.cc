@@ -70,6 +70,13 @@ TEST_CASE("at the lab's truth the residual is noise, with sigma given or estimat
   CHECK(e.noise.sigma_m == Approx(0.3e-3).epsilon(0.15));
   CHECK_FALSE(e.estimated.any_significant());
   CHECK(e.given.sentences.size() == 1);  // "consistent with noise", no structure read into it
+  // The same markers as a list (no grid): neighbour planes.
+  dx::ResidualField listed = e.field;
+  listed.trials[0].grid_rows.reset();
+  listed.trials[0].grid_cols.reset();
+  const dx::NoiseEstimate from_list = dx::estimate_noise(listed);
+  CHECK(from_list.method.find("neighbour planes") == 0);
+  CHECK(from_list.sigma_m == Approx(0.3e-3).epsilon(0.15));
   // What the structure measures see on a real field: finite and in range.
   for (const auto& s : e.field.samples) {
     CHECK(s.normal.norm() == Approx(1.0));
