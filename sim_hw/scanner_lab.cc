@@ -124,9 +124,10 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
   lab.true_stage1_poses = true_poses.front();
 
   // The "real" sheet: the lab's material on the reference mesh.
-  const twin::ShellModel reference(
+  twin::ShellModel reference(
       twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
       truth);
+  if (config.adjust_reference) config.adjust_reference(reference);
   const twin::ClampSet clamps(reference.mesh(), trial.clamps);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());
   for (std::size_t s = 0; s < true_poses.size(); ++s) {

@@ -10,11 +10,13 @@
 // around each seen marker (see marker_scan.h). Everything random comes from the seed.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sim_hw/lab_materials.h"
+#include "twin/shell_model.h"
 #include "twin/trial.h"
 
 namespace sim_hw {
@@ -32,6 +34,10 @@ struct ScannerLabConfig {
   int scan_points_per_marker = 300;
   // Overrides the specimen's truth (a lab material file); hidden effects come in later.
   std::optional<twin::Material> material_override;
+  // Physics outside the twin's model (e.g. a crease, sim_hw/crease.h), applied to the reference
+  // sheet once it is built with its material; the lab never sets the material again afterwards,
+  // so what this changes (rest angles, ...) stays for every stage. Empty: no change.
+  std::function<void(twin::ShellModel&)> adjust_reference;
 };
 
 struct LabTrial {

@@ -1,0 +1,139 @@
+#include "sim_hw/blind_trial_set.h"
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "twin/atomic_file.h"
+
+namespace sim_hw {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A reference simulation can fail for an unlucky protocol (a clamp move the solver cannot
+// follow); the lab then repeats the trial with the next protocol, as a real lab would.
+constexpr int kAttemptsPerTrial = 3;
+
+ScannerLabConfig lab_config(const BlindSetConfig& config, const HiddenEffect& hidden, std::uint64_t lab_seed) {
+  ScannerLabConfig lab;
+  lab.specimen = config.specimen;
+  lab.seed = lab_seed;
+  lab.reference_triangles = config.triangles;
+  lab.raw_scans = config.raw_scans;
+  lab.material_override = hidden.truth;
+  if (hidden.crease) {
+    const Crease crease = *hidden.crease;
+    lab.adjust_reference = [crease](twin::ShellModel& model) {
+      if (apply_crease(model, crease) == 0) throw std::runtime_error("blind set: the crease line misses the sheet");
+    };
+  }
+  return lab;
+}
+
+// Trial k's lab seeds: derived from the set's seed only, never from the effect, so the clamp
+// protocols say nothing about what is hidden.
+std::uint64_t lab_seed(std::uint64_t seed, std::size_t trial, int attempt) {
+  return derived_seed(seed, 100 + 10 * trial + static_cast<std::uint64_t>(attempt));
+}
+
+bool inside(const fs::path& directory, const fs::path& base) {
+  const fs::path d = fs::weakly_canonical(fs::absolute(directory)), b = fs::weakly_canonical(fs::absolute(base));
+  auto di = d.begin();
+  for (auto bi = b.begin(); bi != b.end(); ++bi, ++di) {
+    if (bi->empty()) continue;  // a trailing separator
+    if (di == d.end() || *di != *bi) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+const std::vector<std::string>& blind_trial_names() {
+  static const std::vector<std::string> names = {"train_1", "train_2", "test_1"};
+  return names;
+}
+
+double typical_marker_curvature_1_m(const LabTrial& lab) {
+  const twin::Trial& t = lab.trial;
+  if (!t.marker_grid_rows || !t.marker_grid_cols) throw std::invalid_argument("typical curvature: markers are not a grid");
+  const int rows = *t.marker_grid_rows, cols = *t.marker_grid_cols;
+  double sum = 0.0;
+  long count = 0;
+  // Second difference over three markers a, b, c in a row or column, spaced s apart at rest.
+  const auto add = [&](const std::vector<twin::Vec3>& x, int a, int b, int c) {
+    const double s = 0.5 * (t.marker_uv_m[c] - t.marker_uv_m[a]).norm();
+    const double k = (x[a] - 2.0 * x[b] + x[c]).norm() / (s * s);
+    sum += k * k;
+    ++count;
+  };
+  for (const auto& x : lab.true_markers_m) {
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 1; c + 1 < cols; ++c) add(x, r * cols + c - 1, r * cols + c, r * cols + c + 1);
+    }
+    for (int r = 1; r + 1 < rows; ++r) {
+      for (int c = 0; c < cols; ++c) add(x, (r - 1) * cols + c, r * cols + c, (r + 1) * cols + c);
+    }
+  }
+  if (count == 0) throw std::invalid_argument("typical curvature: the marker grid needs 3 rows or columns");
+  return std::sqrt(sum / static_cast<double>(count));
+}
+
+BlindTrialSet make_blind_trial_set(const BlindSetConfig& config) {
+  const LabSpecimen specimen = lab_specimen(config.specimen);
+  const std::string effect = config.forced_effect.value_or(effect_for_seed(config.seed));
+  const auto make_trial = [&](const HiddenEffect& hidden, std::size_t k, ScannerLabConfig* used) {
+    std::string failures;
+    for (int attempt = 0; attempt < kAttemptsPerTrial; ++attempt) {
+      ScannerLabConfig lab = lab_config(config, hidden, lab_seed(config.seed, k, attempt));
+      try {
+        LabTrial trial = make_lab_trial(lab);
+        if (used) *used = lab;
+        return trial;
+      } catch (const std::runtime_error& e) {
+        failures += fmt::format("{}{}", failures.empty() ? "" : "; ", e.what());
+      }
+    }
+    throw std::runtime_error(fmt::format("blind set (seed {}): trial {} failed {} times: {}", config.seed,
+                                         blind_trial_names()[k], kAttemptsPerTrial, failures));
+  };
+  // Only stiffening needs to know the curvatures the trials reach: the first trial's, without it.
+  const auto typical_curvature = [&] {
+    HiddenEffect plain;
+    plain.effect = "none";
+    plain.truth = specimen.truth;
+    return typical_marker_curvature_1_m(make_trial(plain, 0, nullptr));
+  };
+  BlindTrialSet set;
+  set.hidden = draw_hidden_effect(config.seed, effect, specimen, typical_curvature);
+  set.names = blind_trial_names();
+  set.labs.resize(set.names.size());
+  for (std::size_t k = 0; k < set.names.size(); ++k) set.trials.push_back(make_trial(set.hidden, k, &set.labs[k]));
+  return set;
+}
+
+void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_directory,
+                           const std::string& truth_directory) {
+  if (inside(truth_directory, trials_directory)) {
+    throw std::invalid_argument(fmt::format("blind set: the truth directory '{}' is inside the trials directory '{}'",
+                                            truth_directory, trials_directory));
+  }
+  for (std::size_t k = 0; k < set.trials.size(); ++k) {
+    write_lab_trial(set.trials[k], set.labs[k], (fs::path(trials_directory) / set.names[k]).string(),
+                    (fs::path(truth_directory) / set.names[k]).string());
+  }
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const auto& [name, value] : set.hidden.parameters) parameters[name] = value;
+  const nlohmann::json hidden = {{"effect", set.hidden.effect},
+                                 {"description", set.hidden.description},
+                                 {"parameters", parameters},
+                                 {"trials", set.names}};
+  twin::write_file_atomically(fs::path(truth_directory) / "hidden_effect.json",
+                              [&](std::ostream& out) { out << hidden.dump(2) << "\n"; });
+  twin::write_material_file((fs::path(truth_directory) / "material.json").string(), set.hidden.truth);
+}
+
+}  // namespace sim_hw
