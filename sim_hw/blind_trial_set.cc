@@ -115,12 +115,16 @@ BlindTrialSet make_blind_trial_set(const BlindSetConfig& config) {
   return set;
 }
 
-void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_directory,
-                           const std::string& truth_directory) {
+void check_blind_directories(const std::string& trials_directory, const std::string& truth_directory) {
   if (inside(truth_directory, trials_directory)) {
     throw std::invalid_argument(fmt::format("blind set: the truth directory '{}' is inside the trials directory '{}'",
                                             truth_directory, trials_directory));
   }
+}
+
+void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_directory,
+                           const std::string& truth_directory) {
+  check_blind_directories(trials_directory, truth_directory);
   for (std::size_t k = 0; k < set.trials.size(); ++k) {
     write_lab_trial(set.trials[k], set.labs[k], (fs::path(trials_directory) / set.names[k]).string(),
                     (fs::path(truth_directory) / set.names[k]).string());

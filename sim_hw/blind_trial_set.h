@@ -46,6 +46,8 @@ double typical_marker_curvature_1_m(const LabTrial& lab);
 BlindTrialSet make_blind_trial_set(const BlindSetConfig& config);
 
 // Throws std::invalid_argument when truth_directory is trials_directory or inside it.
+void check_blind_directories(const std::string& trials_directory, const std::string& truth_directory);
+// Checks the directories as above, then writes.
 void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_directory,
                            const std::string& truth_directory);
 

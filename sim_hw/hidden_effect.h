@@ -5,7 +5,8 @@
 //
 // Effects (names as in twin/model_effects.h and the diagnose verdict), equally likely:
 //   none                     the specimen's own material
-//   orthotropic_stiffness    warp/weft bending ratio 0.3-0.6 or 1.7-3, tensile ratio 0.5-2
+//   orthotropic_stiffness    warp/weft bending ratio 0.3-0.6 or 1.7-2.5 (hinge bending on the
+//                            twin's coarse meshes represents up to about 2.6), tensile 0.5-2
 //                            (geometric means kept, so the sheet is not just stiffer)
 //   rest_curvature           roll set of radius 0.3-1.5 m along a random direction, either side
 //   nonlinear_bending        beta with beta kappa^2 = 0.5-3 at the trial's typical curvature

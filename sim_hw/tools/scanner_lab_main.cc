@@ -20,6 +20,7 @@
 namespace {
 
 int run_blind(const sim_hw::BlindSetConfig& config, const std::string& out, const std::string& truth) {
+  sim_hw::check_blind_directories(out, truth);  // before minutes of simulation, not after
   const sim_hw::BlindTrialSet set = sim_hw::make_blind_trial_set(config);
   sim_hw::write_blind_trial_set(set, out, truth);
   // Says nothing about the effect: whoever runs this may be the one analysing the trials.
