@@ -61,24 +61,27 @@ double typical_marker_curvature_1_m(const LabTrial& lab) {
   const twin::Trial& t = lab.trial;
   if (!t.marker_grid_rows || !t.marker_grid_cols) throw std::invalid_argument("typical curvature: markers are not a grid");
   const int rows = *t.marker_grid_rows, cols = *t.marker_grid_cols;
+  if (rows < 3 || cols < 3) throw std::invalid_argument("typical curvature: the marker grid needs 3 rows and columns");
+  // Second difference over three markers a, b, c in a row or a column, spaced s apart at rest:
+  // |x_a - 2 x_b + x_c| / s^2 is the curvature along that line (for small s).
+  const auto along = [&](const std::vector<twin::Vec3>& x, int a, int b, int c) {
+    const double s = 0.5 * (t.marker_uv_m[c] - t.marker_uv_m[a]).norm();
+    return (x[a] - 2.0 * x[b] + x[c]).norm() / (s * s);
+  };
   double sum = 0.0;
   long count = 0;
-  // Second difference over three markers a, b, c in a row or column, spaced s apart at rest.
-  const auto add = [&](const std::vector<twin::Vec3>& x, int a, int b, int c) {
-    const double s = 0.5 * (t.marker_uv_m[c] - t.marker_uv_m[a]).norm();
-    const double k = (x[a] - 2.0 * x[b] + x[c]).norm() / (s * s);
-    sum += k * k;
-    ++count;
-  };
   for (const auto& x : lab.true_markers_m) {
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 1; c + 1 < cols; ++c) add(x, r * cols + c - 1, r * cols + c, r * cols + c + 1);
-    }
     for (int r = 1; r + 1 < rows; ++r) {
-      for (int c = 0; c < cols; ++c) add(x, (r - 1) * cols + c, r * cols + c, (r + 1) * cols + c);
+      for (int c = 1; c + 1 < cols; ++c) {
+        const int m = r * cols + c;
+        // Both directions, so a cylinder of radius R along either direction gives 1/R.
+        const double ku = along(x, m - 1, m, m + 1), kv = along(x, m - cols, m, m + cols);
+        sum += ku * ku + kv * kv;
+        ++count;
+      }
     }
   }
-  if (count == 0) throw std::invalid_argument("typical curvature: the marker grid needs 3 rows or columns");
+  if (count == 0) throw std::invalid_argument("typical curvature: no noise-free markers");
   return std::sqrt(sum / static_cast<double>(count));
 }
 
@@ -108,6 +111,8 @@ BlindTrialSet make_blind_trial_set(const BlindSetConfig& config) {
     return typical_marker_curvature_1_m(make_trial(plain, 0, nullptr));
   };
   BlindTrialSet set;
+  set.seed = config.seed;
+  set.forced = config.forced_effect.has_value();
   set.hidden = draw_hidden_effect(config.seed, effect, specimen, typical_curvature);
   set.names = blind_trial_names();
   set.labs.resize(set.names.size());
@@ -134,7 +139,11 @@ void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_d
   const nlohmann::json hidden = {{"effect", set.hidden.effect},
                                  {"description", set.hidden.description},
                                  {"parameters", parameters},
-                                 {"trials", set.names}};
+                                 {"trials", set.names},
+                                 {"forced", set.forced},
+                                 {"seed", set.seed},
+                                 {"specimen", set.labs.front().specimen},
+                                 {"reference_triangles", set.labs.front().reference_triangles}};
   twin::write_file_atomically(fs::path(truth_directory) / "hidden_effect.json",
                               [&](std::ostream& out) { out << hidden.dump(2) << "\n"; });
   twin::write_material_file((fs::path(truth_directory) / "material.json").string(), set.hidden.truth);

@@ -3,7 +3,9 @@
 // effect (sim_hw/hidden_effect.h), made by the scanner lab from a seed:
 //   TRIALS/train_1, TRIALS/train_2, TRIALS/test_1   trial directories (README "Trial directory"),
 //                                                   each with its own clamp protocol and noise
-//   TRUTH/hidden_effect.json                        {"effect", "description", "parameters"}
+//   TRUTH/hidden_effect.json                        {"effect", "description", "parameters",
+//                                                    "trials", "forced", "seed", "specimen",
+//                                                    "reference_triangles"}
 //   TRUTH/material.json                             the material the lab simulated
 //   TRUTH/<trial>/                                  per trial: noise-free markers, lab.json
 // TRUTH must not be inside TRIALS: whatever analyses TRIALS must not be able to find it.
@@ -29,6 +31,8 @@ struct BlindSetConfig {
 };
 
 struct BlindTrialSet {
+  std::uint64_t seed = 0;
+  bool forced = false;  // the effect was forced, not picked by the seed
   HiddenEffect hidden;
   std::vector<std::string> names;      // train_1, train_2, test_1
   std::vector<LabTrial> trials;        // in the order of names
@@ -38,8 +42,9 @@ struct BlindTrialSet {
 // The names of the three trials, in order.
 const std::vector<std::string>& blind_trial_names();
 
-// RMS curvature (1/m) of the noise-free marker grid over all stages, from second differences
-// along the grid's rows and columns: the "typical curvature" of the specimen in these trials.
+// The "typical curvature" (1/m) of the specimen in a trial: RMS over all stages and interior
+// markers of sqrt(k_row^2 + k_col^2), with k the second difference of the noise-free markers
+// along the grid's row and column through the marker (a cylinder of radius R gives 1/R).
 double typical_marker_curvature_1_m(const LabTrial& lab);
 
 // Throws std::runtime_error when a trial's reference simulation fails for every lab seed tried.

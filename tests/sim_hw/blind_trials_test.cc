@@ -188,6 +188,9 @@ TEST_CASE("scanner_lab blind writes three trials and keeps the truth out of them
   }
   const nlohmann::json hidden = nlohmann::json::parse(slurp(truth / "hidden_effect.json"));
   CHECK(hidden.at("effect") == "outside_library");
+  CHECK(hidden.at("forced") == true);
+  CHECK(hidden.at("seed") == 11);
+  CHECK(hidden.at("reference_triangles") == kTriangles);
   CHECK(hidden.at("parameters").size() == 4);
   CHECK_NOTHROW(twin::read_material_file((truth / "material.json").string()));
   // Nothing about the effect in the trials, nor on the terminal: not its name, not its kind, not
@@ -256,4 +259,35 @@ TEST_CASE("scanner_lab blind refuses a truth directory inside the trials and an 
   // Without --truth the set is not written at all (no default next to the trials).
   CHECK(run_generator({"blind", "--seed", "1", "--out", (dir / "v").string()}, dir / "log.txt") != 0);
   CHECK_FALSE(fs::exists(dir / "v"));
+}
+
+TEST_CASE("the typical curvature of markers on a cylinder is one over its radius", "[blind]") {
+  sim_hw::LabTrial lab;
+  const int rows = 9, cols = 11;
+  lab.trial.marker_grid_rows = rows;
+  lab.trial.marker_grid_cols = cols;
+  const double du = 0.05, dv = 0.04;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) lab.trial.marker_uv_m.push_back(twin::Vec2(c * du, r * dv));
+  }
+  for (const double radius_m : {0.3, 1.2}) {
+    // Rolled along u (markers on the circle by arc length), then along v.
+    for (int direction = 0; direction < 2; ++direction) {
+      std::vector<twin::Vec3> x;
+      for (const twin::Vec2& uv : lab.trial.marker_uv_m) {
+        const double arc = direction == 0 ? uv.x() : uv.y(), across = direction == 0 ? uv.y() : uv.x();
+        const double phi = arc / radius_m;
+        x.push_back(twin::Vec3(radius_m * std::sin(phi), across, radius_m * (1.0 - std::cos(phi))));
+      }
+      lab.true_markers_m = {x, x};
+      INFO("radius " << radius_m << " along " << (direction == 0 ? "u" : "v"));
+      // The chord's second difference is 4 R sin^2(s / 2R) / s^2 = (1/R) (1 - s^2 / 12 R^2 ...).
+      CHECK(sim_hw::typical_marker_curvature_1_m(lab) == Approx(1.0 / radius_m).epsilon(0.01));
+    }
+  }
+  // A flat sheet has none.
+  std::vector<twin::Vec3> flat;
+  for (const twin::Vec2& uv : lab.trial.marker_uv_m) flat.push_back(twin::Vec3(uv.x(), uv.y(), 1.0));
+  lab.true_markers_m = {flat};
+  CHECK(sim_hw::typical_marker_curvature_1_m(lab) == Approx(0.0).margin(1e-9));
 }
