@@ -25,10 +25,11 @@ ScannerLabConfig lab_config(const BlindSetConfig& config, const HiddenEffect& hi
   lab.reference_triangles = config.triangles;
   lab.raw_scans = config.raw_scans;
   lab.material_override = hidden.truth;
-  if (hidden.crease) {
-    const Crease crease = *hidden.crease;
-    lab.adjust_reference = [crease](twin::ShellModel& model) {
-      if (apply_crease(model, crease) == 0) throw std::runtime_error("blind set: the crease line misses the sheet");
+  if (!hidden.creases.empty()) {
+    lab.adjust_reference = [creases = hidden.creases](twin::ShellModel& model) {
+      for (const Crease& crease : creases) {
+        if (apply_crease(model, crease) == 0) throw std::runtime_error("blind set: a crease line misses the sheet");
+      }
     };
   }
   return lab;

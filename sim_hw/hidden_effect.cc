@@ -143,17 +143,24 @@ HiddenEffect draw_hidden_effect(std::uint64_t seed, const std::string& effect, c
     h.description = fmt::format("stiffness relaxes by {:.0f} % with tau = {:.0f} s after each clamp move",
                                 100.0 * e.relaxation_fraction, e.relaxation_time_s);
   } else {  // outside_library
-    Crease c;
-    c.point_m = twin::Vec2(d.uniform(0.3, 0.7) * specimen.width_m, d.uniform(0.3, 0.7) * specimen.height_m);
-    c.direction_rad = d.uniform(0.0, 180.0) * kDegree;
-    c.angle_rad = d.sign() * d.uniform(25.0, 50.0) * kDegree;
-    h.crease = c;
-    h.parameters = {{"crease_point_u_m", c.point_m.x()},
-                    {"crease_point_v_m", c.point_m.y()},
-                    {"crease_direction_deg", c.direction_rad / kDegree},
-                    {"crease_angle_deg", c.angle_rad / kDegree}};
-    h.description = fmt::format("a crease of {:.0f} deg through ({:.2f}, {:.2f}) m at {:.0f} deg from weft",
-                                c.angle_rad / kDegree, c.point_m.x(), c.point_m.y(), c.direction_rad / kDegree);
+    // Folded in four for storage: the two folds cross at right angles, at a random turn.
+    const twin::Vec2 point(d.uniform(0.35, 0.65) * specimen.width_m, d.uniform(0.35, 0.65) * specimen.height_m);
+    const double direction = d.uniform(0.0, 90.0) * kDegree;
+    for (int k = 0; k < 2; ++k) {
+      Crease c;
+      c.point_m = point;
+      c.direction_rad = direction + k * 90.0 * kDegree;
+      c.angle_rad = d.sign() * d.uniform(40.0, 80.0) * kDegree;
+      h.creases.push_back(c);
+      const std::string name = fmt::format("crease_{}_", k + 1);
+      h.parameters.insert(h.parameters.end(), {{name + "direction_deg", c.direction_rad / kDegree},
+                                               {name + "angle_deg", c.angle_rad / kDegree}});
+    }
+    h.parameters.insert(h.parameters.begin(), {{"crease_point_u_m", point.x()}, {"crease_point_v_m", point.y()}});
+    h.description = fmt::format("folded in four: creases of {:.0f} and {:.0f} deg through ({:.2f}, {:.2f}) m, the "
+                                "first at {:.0f} deg from weft",
+                                h.creases[0].angle_rad / kDegree, h.creases[1].angle_rad / kDegree, point.x(),
+                                point.y(), direction / kDegree);
   }
   h.truth.validate();
   return h;

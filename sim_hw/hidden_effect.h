@@ -12,12 +12,12 @@
 //   nonlinear_bending        beta with beta kappa^2 = 0.5-3 at the trial's typical curvature
 //   marker_mass              0.5-2 g per marker (quarter-inch raised markers)
 //   viscoelastic_relaxation  fraction 0.3-0.6, time constant 60-600 s
-//   outside_library          a crease (sim_hw/crease.h), 25-50 degrees along a random line
+//   outside_library          the ply was folded in four once: two perpendicular creases
+//                            (sim_hw/crease.h) through a point near the middle, 40-80 deg each
 // The ranges are the lab's idea of realistic, not the analysis's: diagnose must not rely on them.
 
 #include <cstdint>
 #include <functional>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,7 +37,7 @@ struct HiddenEffect {
   // What was drawn, in SI units (names end in their unit; twin parameter names where one exists).
   std::vector<std::pair<std::string, double>> parameters;
   twin::Material truth;          // the specimen's material carrying the effect (twin's effects)
-  std::optional<Crease> crease;  // outside_library only: applied to the reference sheet
+  std::vector<Crease> creases;  // outside_library only: applied to the reference sheet
 };
 
 // The effect the seed picks (uniformly over blind_effect_names()).

@@ -85,7 +85,7 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
       const twin::Material& m = h.truth;
       const twin::ModelEffects& e = m.effects;
       CHECK(h.effect == effect);
-      CHECK(h.crease.has_value() == (effect == "outside_library"));
+      CHECK(h.creases.size() == (effect == "outside_library" ? 2u : 0u));
       // Only the drawn effect departs from the specimen: everything else is the specimen's.
       CHECK(e.any() == (effect == "rest_curvature" || effect == "nonlinear_bending" || effect == "marker_mass" ||
                         effect == "viscoelastic_relaxation"));
@@ -120,8 +120,13 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
         CHECK(e.relaxation_time_s >= 60.0);
         CHECK(e.relaxation_time_s <= 600.0);
       } else if (effect == "outside_library") {
-        CHECK(std::abs(h.crease->angle_rad) >= 25.0 * M_PI / 180 - 1e-12);
-        CHECK(std::abs(h.crease->angle_rad) <= 50.0 * M_PI / 180 + 1e-12);
+        for (const sim_hw::Crease& c : h.creases) {
+          CHECK(std::abs(c.angle_rad) >= 40.0 * M_PI / 180 - 1e-12);
+          CHECK(std::abs(c.angle_rad) <= 80.0 * M_PI / 180 + 1e-12);
+        }
+        // Folded in four: the creases cross at right angles.
+        CHECK(std::abs(h.creases[1].direction_rad - h.creases[0].direction_rad) == Approx(M_PI / 2));
+        CHECK(h.creases[0].point_m == h.creases[1].point_m);
       } else {
         CHECK(h.parameters.empty());
       }
@@ -191,7 +196,7 @@ TEST_CASE("scanner_lab blind writes three trials and keeps the truth out of them
   CHECK(hidden.at("forced") == true);
   CHECK(hidden.at("seed") == 11);
   CHECK(hidden.at("reference_triangles") == kTriangles);
-  CHECK(hidden.at("parameters").size() == 4);
+  CHECK(hidden.at("parameters").size() == 6);
   CHECK_NOTHROW(twin::read_material_file((truth / "material.json").string()));
   // Nothing about the effect in the trials, nor on the terminal: not its name, not its kind, not
   // its drawn values (as a writer would print them; fewer digits would match marker coordinates
