@@ -63,7 +63,7 @@ run_set() {
 
 # Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
 results="$out/results.tsv"
-printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\n' > "$results"
+printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\n' > "$results"
 IFS=',' read -r -a effect_list <<< "$effects"
 index=0
 for effect in "${effect_list[@]}"; do
@@ -78,11 +78,12 @@ for effect in "${effect_list[@]}"; do
     diag_s=$(cat "$dir/seconds_diagnose.txt" 2>/dev/null || echo nan)
     if [ -f "$dir/error.txt" ] || [ ! -f "$dir/report/verdict.json" ]; then
       echo "blind_accuracy:   $(cat "$dir/error.txt" 2>/dev/null)" >&2
-      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
+      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
       continue
     fi
     truth=$(jq -r '.effect' "$dir/truth/hidden_effect.json")
-    jq -r --arg truth "$truth" --arg seed "$seed" --arg g "$gen_s" --arg d "$diag_s" '
+    shift_mm=$(jq -r '.marker_shift_mm.mean // "nan"' "$dir/truth/hidden_effect.json")
+    jq -r --arg truth "$truth" --arg seed "$seed" --arg g "$gen_s" --arg d "$diag_s" --arg shift "$shift_mm" '
       (.held_out.before_mean_mm // null) as $b | (.held_out.after_mean_mm // null) as $a |
       (.noise_floor_mm // null) as $f |
       (if $truth == "none" then (if .verdict == "none" then "right" elif .verdict == "effect" then "wrong_name" else "unexplained" end)
@@ -91,7 +92,7 @@ for effect in "${effect_list[@]}"; do
        else .verdict end) as $outcome |
       (if $truth == "none" or $truth == "outside_library" then "-"
        elif ($a != null and $b != null and $f != null and $a <= 0.5 * $b and $a <= 1.5 * $f) then "yes" else "no" end) as $meets |
-      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d]
+      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift]
       | map(tostring) | join("\t")' "$dir/report/verdict.json" >> "$results"
     echo "blind_accuracy:   $(tail -1 "$results" | cut -f3-9)" >&2
   done
@@ -105,14 +106,16 @@ awk -F'\t' '
   { e = $1; order[e] = order[e] ? order[e] : ++n; names[order[e]] = e; sets[e]++; count[e, $3]++
     if ($6 != "nan" && $7 != "nan") { before[e] += $6; after[e] += $7; errs[e]++ }
     if ($9 == "yes") meets[e]++
+    if ($12 != "nan" && $12 != "") { shift[e] += $12; shifts[e]++ }
     if ($10 != "nan") { gs += $10; gn++ } if ($11 != "nan") { ds += $11; dn++ } }
   END {
-    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s\n", "effect", "sets", "right", "wrong_name", "none",
-           "unexplained", "failed", "before_mm", "after_mm", "err_ok"
+    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s\n", "effect", "sets", "right", "wrong_name", "none",
+           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm"
     for (i = 1; i <= n; i++) { e = names[i]
-      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s\n", e, sets[e], count[e, "right"],
+      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s\n", e, sets[e], count[e, "right"],
              count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "failed"],
              errs[e] ? sprintf("%.3f", before[e] / errs[e]) : "-", errs[e] ? sprintf("%.3f", after[e] / errs[e]) : "-",
-             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]) }
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]),
+             shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-" }
     if (gn) printf "mean seconds: generate %.1f (%d sets), diagnose %s\n", gs / gn, gn, dn ? sprintf("%.1f (%d sets)", ds / dn, dn) : "-"
   }' "$results"

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -49,6 +50,30 @@ bool inside(const fs::path& directory, const fs::path& base) {
     if (di == d.end() || *di != *bi) return false;
   }
   return true;
+}
+
+// How far the effect moves the markers: the same trial (same lab seed, protocol and noise)
+// without it, mean distance between the noise-free markers over all stages. NaN when the plain
+// sheet cannot be simulated on that protocol.
+double effect_shift_m(const BlindTrialSet& set, std::size_t k, const LabSpecimen& specimen) {
+  ScannerLabConfig plain = set.labs[k];
+  plain.material_override = specimen.truth;
+  plain.adjust_reference = nullptr;
+  plain.raw_scans = false;
+  try {
+    const LabTrial without = make_lab_trial(plain);
+    double sum = 0.0;
+    long count = 0;
+    for (std::size_t s = 0; s < without.true_markers_m.size(); ++s) {
+      for (std::size_t m = 0; m < without.true_markers_m[s].size(); ++m) {
+        sum += (set.trials[k].true_markers_m[s][m] - without.true_markers_m[s][m]).norm();
+        ++count;
+      }
+    }
+    return sum / static_cast<double>(count);
+  } catch (const std::runtime_error&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 }  // namespace
@@ -118,6 +143,9 @@ BlindTrialSet make_blind_trial_set(const BlindSetConfig& config) {
   set.names = blind_trial_names();
   set.labs.resize(set.names.size());
   for (std::size_t k = 0; k < set.names.size(); ++k) set.trials.push_back(make_trial(set.hidden, k, &set.labs[k]));
+  if (config.measure_effect && set.hidden.effect != "none") {
+    for (std::size_t k = 0; k < set.trials.size(); ++k) set.effect_shift_m.push_back(effect_shift_m(set, k, specimen));
+  }
   return set;
 }
 
@@ -137,7 +165,7 @@ void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_d
   }
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [name, value] : set.hidden.parameters) parameters[name] = value;
-  const nlohmann::json hidden = {{"effect", set.hidden.effect},
+  nlohmann::json hidden = {{"effect", set.hidden.effect},
                                  {"description", set.hidden.description},
                                  {"parameters", parameters},
                                  {"trials", set.names},
@@ -145,6 +173,16 @@ void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_d
                                  {"seed", set.seed},
                                  {"specimen", set.labs.front().specimen},
                                  {"reference_triangles", set.labs.front().reference_triangles}};
+  if (!set.effect_shift_m.empty()) {
+    nlohmann::json shift = nlohmann::json::object();
+    double sum = 0.0;
+    for (std::size_t k = 0; k < set.effect_shift_m.size(); ++k) {
+      shift[set.names[k]] = std::isfinite(set.effect_shift_m[k]) ? nlohmann::json(1e3 * set.effect_shift_m[k]) : nullptr;
+      sum += set.effect_shift_m[k];
+    }
+    shift["mean"] = std::isfinite(sum) ? nlohmann::json(1e3 * sum / static_cast<double>(set.effect_shift_m.size())) : nullptr;
+    hidden["marker_shift_mm"] = shift;
+  }
   twin::write_file_atomically(fs::path(truth_directory) / "hidden_effect.json",
                               [&](std::ostream& out) { out << hidden.dump(2) << "\n"; });
   twin::write_material_file((fs::path(truth_directory) / "material.json").string(), set.hidden.truth);

@@ -5,7 +5,7 @@
 //                                                   each with its own clamp protocol and noise
 //   TRUTH/hidden_effect.json                        {"effect", "description", "parameters",
 //                                                    "trials", "forced", "seed", "specimen",
-//                                                    "reference_triangles"}
+//                                                    "reference_triangles", "marker_shift_mm"}
 //   TRUTH/material.json                             the material the lab simulated
 //   TRUTH/<trial>/                                  per trial: noise-free markers, lab.json
 // TRUTH must not be inside TRIALS: whatever analyses TRIALS must not be able to find it.
@@ -28,6 +28,9 @@ struct BlindSetConfig {
   int triangles = 300;                       // the reference sheet's mesh = the twin's
   std::optional<std::string> forced_effect;  // tests and the accuracy script only
   bool raw_scans = false;                    // raw scans are large and diagnose does not read them
+  // Also simulate each trial without the effect, to record how far it moves the markers
+  // (hidden_effect.json "marker_shift_mm"): doubles the simulations of a set with an effect.
+  bool measure_effect = true;
 };
 
 struct BlindTrialSet {
@@ -37,6 +40,10 @@ struct BlindTrialSet {
   std::vector<std::string> names;      // train_1, train_2, test_1
   std::vector<LabTrial> trials;        // in the order of names
   std::vector<ScannerLabConfig> labs;  // how each was made (seeds), for the truth directory
+  // Per trial, mean distance (m) between its noise-free markers and those of the same trial
+  // without the effect: the effect's size before any refit (a refit of the paper's parameters
+  // absorbs part of it). Empty without an effect or measure_effect; NaN where the plain sheet failed.
+  std::vector<double> effect_shift_m;
 };
 
 // The names of the three trials, in order.

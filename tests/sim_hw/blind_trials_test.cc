@@ -249,6 +249,13 @@ TEST_CASE("a blind set is reproducible from its seed, and the effect changes onl
     INFO(name << ": markers moved " << 1e3 * moved_m / count << " mm on average");
     CHECK(moved_m / count > 1e-3);  // noise is 0.3 mm per axis
   }
+  // The truth says how far the effect moved the markers, measured against the same trials without
+  // it: more than what the noisy files differ by, since the noise is the same in both.
+  const nlohmann::json plain_truth = nlohmann::json::parse(slurp(dir / "a_truth" / "hidden_effect.json"));
+  const nlohmann::json other_truth = nlohmann::json::parse(slurp(dir / "c_truth" / "hidden_effect.json"));
+  CHECK_FALSE(plain_truth.contains("marker_shift_mm"));
+  REQUIRE(other_truth.contains("marker_shift_mm"));
+  CHECK(other_truth.at("marker_shift_mm").at("mean").get<double>() > 1.0);
   // Another seed: other trials.
   REQUIRE(run_generator(blind_args(22, dir / "d", dir / "d_truth", "none"), dir / "d.txt") == 0);
   CHECK(files_under(dir / "d") != a);
