@@ -303,3 +303,27 @@ TEST_CASE("the typical curvature of markers on a cylinder is one over its radius
   lab.true_markers_m = {flat};
   CHECK(sim_hw::typical_marker_curvature_1_m(lab) == Approx(0.0).margin(1e-9));
 }
+
+TEST_CASE("for one seed every effect gives the same trial.json: only the sheet's shape differs", "[blind]") {
+  // trial.json holds the specimen, markers, clamps, their measured poses and the stage times: if
+  // any of it depended on the effect (a mass including the markers, a protocol drawn after the
+  // effect), it would give the effect away without looking at the sheet.
+  testing_support::TempDir dir("blind_same_json");
+  std::map<std::string, std::string> first;
+  for (const std::string& effect : sim_hw::blind_effect_names()) {
+    sim_hw::BlindSetConfig config;
+    config.seed = 41;
+    config.triangles = kTriangles;
+    config.forced_effect = effect;
+    config.measure_effect = false;
+    const sim_hw::BlindTrialSet set = sim_hw::make_blind_trial_set(config);
+    sim_hw::write_blind_trial_set(set, (dir / effect).string(), (dir / (effect + "_truth")).string());
+    for (const std::string& name : sim_hw::blind_trial_names()) {
+      const std::string json = slurp(dir / effect / name / "trial.json");
+      REQUIRE_FALSE(json.empty());
+      if (!first.count(name)) first[name] = json;
+      INFO(effect << " " << name);
+      CHECK(json == first[name]);
+    }
+  }
+}
