@@ -42,14 +42,12 @@ std::uint64_t lab_seed(std::uint64_t seed, std::size_t trial, int attempt) {
   return derived_seed(seed, 100 + 10 * trial + static_cast<std::uint64_t>(attempt));
 }
 
+// True when `directory` is `base` or below it (after resolving "..", links and separators).
 bool inside(const fs::path& directory, const fs::path& base) {
-  const fs::path d = fs::weakly_canonical(fs::absolute(directory)), b = fs::weakly_canonical(fs::absolute(base));
-  auto di = d.begin();
-  for (auto bi = b.begin(); bi != b.end(); ++bi, ++di) {
-    if (bi->empty()) continue;  // a trailing separator
-    if (di == d.end() || *di != *bi) return false;
-  }
-  return true;
+  const fs::path d = fs::weakly_canonical(fs::absolute(directory)).lexically_normal();
+  const fs::path b = fs::weakly_canonical(fs::absolute(base)).lexically_normal();
+  const fs::path relative = d.lexically_relative(b);
+  return !relative.empty() && *relative.begin() != "..";
 }
 
 // How far the effect moves the markers: the same trial (same lab seed, protocol and noise)

@@ -266,6 +266,12 @@ TEST_CASE("scanner_lab blind refuses a truth directory inside the trials and an 
   CHECK(run_generator(blind_args(1, dir / "t", dir / "t" / "truth", "none"), dir / "log.txt") == 2);
   CHECK(slurp(dir / "log.txt").find("inside the trials directory") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "t" / "truth" / "hidden_effect.json"));
+  // Also when spelt differently, and the same directory for both.
+  CHECK_THROWS_WITH(sim_hw::check_blind_directories((dir / "t/").string(), (dir / "u/../t/x/truth").string()),
+                    Catch::Contains("inside the trials directory"));
+  CHECK_THROWS(sim_hw::check_blind_directories((dir / "t").string(), (dir / "t/").string()));
+  CHECK_NOTHROW(sim_hw::check_blind_directories((dir / "t").string(), (dir / "t_truth").string()));
+  CHECK_NOTHROW(sim_hw::check_blind_directories((dir / "t" / "a").string(), (dir / "t" / "b").string()));
   CHECK(run_generator(blind_args(1, dir / "u", dir / "u_truth", "gravity_waves"), dir / "log.txt") == 2);
   CHECK(slurp(dir / "log.txt").find("gravity_waves") != std::string::npos);
   // Without --truth the set is not written at all (no default next to the trials).
