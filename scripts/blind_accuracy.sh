@@ -6,7 +6,7 @@
 # Usage: bash scripts/blind_accuracy.sh [SETS_PER_EFFECT (default 3)] [OUT (default out/blind_accuracy)]
 # Environment: EFFECTS (comma list, default all seven), TRIANGLES (default 300: reference sheet
 # and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
-# FIRST_SEED (default 1), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
+# FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
 #
 # Resumable: a set whose truth exists is not generated again, a set with a verdict.json is not
 # diagnosed again; a step that failed left an error file and is retried on the next run. Delete
@@ -26,6 +26,8 @@ for exe in "$lab" "$twin"; do
 done
 command -v jq > /dev/null || { echo "blind_accuracy: needs jq (apt-get install jq)" >&2; exit 2; }
 export OMP_WAIT_POLICY=passive
+# One thread each: on a shared two-core machine OpenMP threads cost more than they give.
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 mkdir -p "$out"
 
 now() { date +%s.%N; }
