@@ -153,6 +153,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       truth);
   const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   reference.set_marker_points(markers);
+  if (config.adjust_reference) config.adjust_reference(reference);
   const twin::ClampSet clamps(reference.mesh(), trial.clamps);
   const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());

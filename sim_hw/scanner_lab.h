@@ -12,11 +12,13 @@
 // sheet's relaxation follows when the truth has it. Everything random comes from the seed.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sim_hw/lab_materials.h"
+#include "twin/shell_model.h"
 #include "twin/trial.h"
 
 namespace sim_hw {
@@ -34,6 +36,10 @@ struct ScannerLabConfig {
   int scan_points_per_marker = 300;
   // Overrides the specimen's truth (a lab material file); hidden effects come in later.
   std::optional<twin::Material> material_override;
+  // Physics outside the twin's model (e.g. a crease, sim_hw/crease.h), applied to the reference
+  // sheet once it is built with its material; the lab never sets the material again afterwards,
+  // so what this changes (rest angles, ...) stays for every stage. Empty: no change.
+  std::function<void(twin::ShellModel&)> adjust_reference;
 };
 
 struct LabTrial {

@@ -1,6 +1,11 @@
 // scanner_lab: makes a scanned trial the way the paper's experiment did (sim_hw/scanner_lab.h).
 //   scanner_lab --specimen composite --seed 1 --out trials/composite_1 [--truth DIR]
 // The truth (material, noise-free markers) goes to DIR (default: OUT.truth), outside the trial.
+//
+//   scanner_lab blind --seed S --out TRIALS --truth TRUTH [--triangles N]
+// A blind trial set (sim_hw/blind_trial_set.h): TRIALS/train_1, train_2, test_1 with one hidden
+// effect picked from the seed; what it is goes to TRUTH only. `--effect NAME` forces the effect;
+// it exists for the generator's own tests and the accuracy script, not for analysis.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -8,8 +13,23 @@
 
 #include <fmt/format.h>
 
+#include "sim_hw/blind_trial_set.h"
 #include "sim_hw/scanner_lab.h"
 #include "twin/material.h"
+
+namespace {
+
+int run_blind(const sim_hw::BlindSetConfig& config, const std::string& out, const std::string& truth) {
+  sim_hw::check_blind_directories(out, truth);  // before minutes of simulation, not after
+  const sim_hw::BlindTrialSet set = sim_hw::make_blind_trial_set(config);
+  sim_hw::write_blind_trial_set(set, out, truth);
+  // Says nothing about the effect: whoever runs this may be the one analysing the trials.
+  fmt::print("scanner lab: blind set, {} seed {}, {} triangles: {} trials -> {} (truth in {})\n", config.specimen,
+             config.seed, config.triangles, set.trials.size(), out, truth);
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Scanner lab: simulated scanned trials of a clamped sheet (paper section 4.2)"};
@@ -17,14 +37,33 @@ int main(int argc, char** argv) {
   std::string out, truth, material_file;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
   app.add_option("--seed", config.seed, "random seed (clamp places, moves, noise)");
-  app.add_option("--out", out, "trial directory to write")->required();
+  app.add_option("--out", out, "trial directory to write (required)");
   app.add_option("--truth", truth, "directory for the truth (default: OUT.truth)");
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
   app.add_option("--reference-triangles", config.reference_triangles, "triangles of the reference sheet");
   app.add_option("--marker-noise-m", config.marker_noise_m, "marker position noise, 1 sigma per axis (m)");
   app.add_flag("!--no-scans", config.raw_scans, "do not write raw scan points");
+
+  sim_hw::BlindSetConfig blind;
+  std::string blind_out, blind_truth, forced;
+  CLI::App* blind_app = app.add_subcommand("blind", "a trial set with one hidden effect chosen by the seed");
+  blind_app->add_option("--seed", blind.seed, "random seed (effect, magnitude, protocols, noise)");
+  blind_app->add_option("--out", blind_out, "directory for train_1, train_2, test_1")->required();
+  blind_app->add_option("--truth", blind_truth, "directory for the hidden effect (not inside --out)")->required();
+  blind_app->add_option("--triangles", blind.triangles, "triangles of the reference sheet (the twin's mesh)");
+  blind_app->add_option("--specimen", blind.specimen, "composite, cloth, canvas or felt");
+  blind_app->add_option("--effect", forced, "force the hidden effect (generator tests only)");
+  blind_app->add_flag("--scans", blind.raw_scans, "also write raw scan points (large)");
   CLI11_PARSE(app, argc, argv);
   try {
+    if (blind_app->parsed()) {
+      if (!forced.empty()) blind.forced_effect = forced;
+      return run_blind(blind, blind_out, blind_truth);
+    }
+    if (out.empty()) {
+      std::fprintf(stderr, "--out is required\nRun with --help for more information.\n");
+      return 106;  // CLI11's exit code for a missing required option, as before
+    }
     if (!material_file.empty()) config.material_override = twin::read_material_file(material_file);
     const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
     if (truth.empty()) truth = out + ".truth";

@@ -1,0 +1,123 @@
+#!/usr/bin/env bash
+# Blind accuracy of the discrepancy workflow (issue 6): for each hidden effect, several blind
+# trial sets (`scanner_lab blind --effect E`, seeds distinct per effect), each diagnosed with
+# `twin diagnose` on the files alone; then a table of how often the verdict is right.
+#
+# Usage: bash scripts/blind_accuracy.sh [SETS_PER_EFFECT (default 3)] [OUT (default out/blind_accuracy)]
+# Environment: EFFECTS (comma list, default all seven), TRIANGLES (default 300: reference sheet
+# and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
+# FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
+#
+# Resumable: a set whose truth exists is not generated again, a set with a verdict.json is not
+# diagnosed again; a step that failed left an error file and is retried on the next run. Delete
+# OUT (or one set's directory) to start over. Progress lines go to stderr, the table to stdout.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+sets="${1:-3}"
+out="${2:-out/blind_accuracy}"
+build="${BUILD:-build}"
+triangles="${TRIANGLES:-300}"
+first_seed="${FIRST_SEED:-1}"
+effects="${EFFECTS:-none,orthotropic_stiffness,rest_curvature,nonlinear_bending,marker_mass,viscoelastic_relaxation,outside_library}"
+lab="${SCANNER_LAB:-$build/sim_hw/scanner_lab}"
+twin="${TWIN:-$build/twin/twin}"
+for exe in "$lab" "$twin"; do
+  [ -x "$exe" ] || { echo "blind_accuracy: $exe not built (cmake --build $build --target scanner_lab twin)" >&2; exit 2; }
+done
+command -v jq > /dev/null || { echo "blind_accuracy: needs jq (apt-get install jq)" >&2; exit 2; }
+export OMP_WAIT_POLICY=passive
+# One thread each: on a shared two-core machine OpenMP threads cost more than they give.
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
+mkdir -p "$out"
+
+now() { date +%s.%N; }
+elapsed() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.1f\n", b - a }'; }
+
+# One set: generate (unless done), diagnose (unless done). Times go to DIR/seconds_*.txt.
+run_set() {
+  local effect="$1" seed="$2" dir="$3"
+  if [ ! -f "$dir/truth/hidden_effect.json" ]; then
+    rm -rf "$dir/trials" "$dir/truth" "$dir/report"
+    mkdir -p "$dir"
+    local t0; t0=$(now)
+    if ! "$lab" blind --seed "$seed" --effect "$effect" --triangles "$triangles" \
+         --out "$dir/trials" --truth "$dir/truth" > "$dir/generate.log" 2>&1; then
+      echo "generate failed: $(tail -1 "$dir/generate.log")" > "$dir/error.txt"
+      rm -rf "$dir/truth"
+      return
+    fi
+    elapsed "$t0" > "$dir/seconds_generate.txt"
+  fi
+  if [ "${REDIAGNOSE:-0}" = 1 ] || [ ! -f "$dir/report/verdict.json" ]; then
+    rm -rf "$dir/report"
+    local t0; t0=$(now)
+    if ! "$twin" diagnose --train "$dir/trials/train_1" --train "$dir/trials/train_2" \
+         --test "$dir/trials/test_1" --triangles "$triangles" --report "$dir/report" > "$dir/diagnose.log" 2>&1 \
+       || [ ! -f "$dir/report/verdict.json" ]; then
+      echo "diagnose failed: $(tail -1 "$dir/diagnose.log")" > "$dir/error.txt"
+      rm -f "$dir/report/verdict.json"
+      return
+    fi
+    elapsed "$t0" > "$dir/seconds_diagnose.txt"
+  fi
+  rm -f "$dir/error.txt"
+}
+
+# Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
+results="$out/results.tsv"
+printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\n' > "$results"
+IFS=',' read -r -a effect_list <<< "$effects"
+index=0
+for effect in "${effect_list[@]}"; do
+  index=$((index + 1))
+  for ((k = 0; k < sets; k++)); do
+    # Distinct seeds per effect, so protocols and noise differ between effects too.
+    seed=$((first_seed + 1000 * index + k))
+    dir="$out/${effect}_$seed"
+    echo "blind_accuracy: $effect seed $seed ..." >&2
+    run_set "$effect" "$seed" "$dir"
+    gen_s=$(cat "$dir/seconds_generate.txt" 2>/dev/null || echo nan)
+    diag_s=$(cat "$dir/seconds_diagnose.txt" 2>/dev/null || echo nan)
+    if [ -f "$dir/error.txt" ] || [ ! -f "$dir/report/verdict.json" ]; then
+      echo "blind_accuracy:   $(cat "$dir/error.txt" 2>/dev/null)" >&2
+      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
+      continue
+    fi
+    truth=$(jq -r '.effect' "$dir/truth/hidden_effect.json")
+    shift_mm=$(jq -r '.marker_shift_mm.mean // "nan"' "$dir/truth/hidden_effect.json")
+    jq -r --arg truth "$truth" --arg seed "$seed" --arg g "$gen_s" --arg d "$diag_s" --arg shift "$shift_mm" '
+      (.held_out.before_mean_mm // null) as $b | (.held_out.after_mean_mm // null) as $a |
+      (.noise_floor_mm // null) as $f |
+      (if $truth == "none" then (if .verdict == "none" then "right" elif .verdict == "effect" then "wrong_name" else "unexplained" end)
+       elif $truth == "outside_library" then (if .verdict == "unexplained" then "right" elif .verdict == "effect" then "wrong_name" else "none" end)
+       elif .verdict == "effect" then (if .effect == $truth then "right" else "wrong_name" end)
+       else .verdict end) as $outcome |
+      (if $truth == "none" or $truth == "outside_library" then "-"
+       elif ($a != null and $b != null and $f != null and $a <= 0.5 * $b and $a <= 1.5 * $f) then "yes" else "no" end) as $meets |
+      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift]
+      | map(tostring) | join("\t")' "$dir/report/verdict.json" >> "$results"
+    echo "blind_accuracy:   $(tail -1 "$results" | cut -f3-9)" >&2
+  done
+done
+
+# The table: per effect, sets, right, wrong name, none, unexplained, failed, mean held-out error.
+echo
+echo "blind accuracy: $sets set(s) per effect, $triangles triangles (reference = twin), results in $results"
+awk -F'\t' '
+  NR == 1 { next }
+  { e = $1; order[e] = order[e] ? order[e] : ++n; names[order[e]] = e; sets[e]++; count[e, $3]++
+    if ($6 != "nan" && $7 != "nan") { before[e] += $6; after[e] += $7; errs[e]++ }
+    if ($9 == "yes") meets[e]++
+    if ($12 != "nan" && $12 != "") { shift[e] += $12; shifts[e]++ }
+    if ($10 != "nan") { gs += $10; gn++ } if ($11 != "nan") { ds += $11; dn++ } }
+  END {
+    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s\n", "effect", "sets", "right", "wrong_name", "none",
+           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm"
+    for (i = 1; i <= n; i++) { e = names[i]
+      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s\n", e, sets[e], count[e, "right"],
+             count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "failed"],
+             errs[e] ? sprintf("%.3f", before[e] / errs[e]) : "-", errs[e] ? sprintf("%.3f", after[e] / errs[e]) : "-",
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]),
+             shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-" }
+    if (gn) printf "mean seconds: generate %.1f (%d sets), diagnose %s\n", gs / gn, gn, dn ? sprintf("%.1f (%d sets)", ds / dn, dn) : "-"
+  }' "$results"
