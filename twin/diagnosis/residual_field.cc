@@ -9,22 +9,12 @@
 #include <Eigen/Dense>
 
 #include "twin/material_point.h"
+#include "twin/stage_age.h"
 
 namespace twin::diagnosis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-bool clamps_moved(const Trial& trial, int stage) {
-  if (stage == 0) return true;  // placed
-  const auto& a = trial.stages[stage - 1].poses;
-  const auto& b = trial.stages[stage].poses;
-  for (std::size_t c = 0; c < a.size() && c < b.size(); ++c) {
-    if (a[c].engaged != b[c].engaged) return true;
-    if (b[c].engaged && (a[c].position_m - b[c].position_m).norm() > 1e-9) return true;
-  }
-  return false;
-}
 
 std::string default_name(const Trial& trial) {
   std::filesystem::path p(trial.directory);
@@ -55,14 +45,8 @@ std::vector<int> ResidualField::samples_of_stage(int s) const {
 }
 
 double stage_age_s(const Trial& trial, int stage) {
-  int k = stage;
-  while (k > 0 && !clamps_moved(trial, k)) --k;
-  // At k == 0 the clamps were placed before the first scan at an unknown time.
-  if (k == 0) return kNaN;
-  const auto& now = trial.stages[stage].time_s;
-  const auto& before = trial.stages[k - 1].time_s;
-  if (!now || !before) return kNaN;
-  return *now - *before;
+  // One definition of the age, the one the twin's relaxation uses (twin/stage_age.h).
+  return stage_load_ages_s(trial.stages).at(stage);
 }
 
 double stage_load_m(const Trial& trial, int stage) {

@@ -58,10 +58,8 @@ struct ResidualField {
   std::vector<int> samples_of_stage(int s) const;
 };
 
-// Seconds since the clamps last moved when stage s was scanned: time_s of s minus the time_s of
-// the stage before the latest stage <= s whose clamp poses differ from the stage before it (the
-// clamps are taken to have moved right after that earlier scan). NaN when the times needed are
-// not given or the clamps were placed at the first stage and never moved since.
+// Seconds since the clamps last moved when stage s was scanned (NaN when unknown): twin/stage_age.h,
+// with the trial's clamps_moved_at_s where given.
 double stage_age_s(const Trial& trial, int stage);
 
 // How hard the stage pulls on the sheet: the highest engaged clamp's lift above the mean
