@@ -10,7 +10,7 @@ namespace twin::diagnosis {
 double SetScore::rms_m() const { return residual_count > 0 ? std::sqrt(sum_squares_m2 / residual_count) : NAN; }
 
 SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
-                   const std::vector<MaterialParameter>& parameters) {
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field) {
   SetScore s;
   int marker_stages = 0;
   for (TrialEvaluator* t : trials) {
@@ -30,6 +30,7 @@ SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& m
       }
       s.stages.push_back(row);
     }
+    if (field) add_trial_residuals(*field, *t, fit, name);
     s.sum_squares_m2 += fit.sum_squares_m2;
     s.residual_count += fit.residual_count;
   }
@@ -69,8 +70,9 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
   for (std::size_t j = effect.base_count; j < r.result.estimates.size(); ++j) {
     r.effect_estimates.push_back(r.result.estimates[j]);
   }
-  r.train = score_set(training, r.result.material, effect.refit_parameters);
-  r.test = score_set(testing, r.result.material, effect.refit_parameters);
+  r.train_field.fitted_parameters = static_cast<int>(effect.refit_parameters.size());
+  r.train = score_set(training, r.result.material, effect.refit_parameters, &r.train_field);
+  r.test = score_set(testing, r.result.material, effect.refit_parameters, &r.test_field);
   if (!r.train.usable()) r.failure = r.train.failure;
   else if (!r.test.usable()) r.failure = r.test.failure;
   r.information_criterion = bic(r.train.sum_squares_m2, r.train.residual_count,

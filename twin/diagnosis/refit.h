@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "twin/diagnosis/effect_library.h"
+#include "twin/diagnosis/residual_field.h"
 #include "twin/identification.h"
 
 namespace twin::diagnosis {
@@ -37,9 +38,9 @@ struct SetScore {
 };
 
 // Simulates every trial with `material` (warm starts dropped first: earlier evaluations may
-// have varied other parameter lists) and scores it.
+// have varied other parameter lists) and scores it; appends the residuals to `field` when given.
 SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
-                   const std::vector<MaterialParameter>& parameters);
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field = nullptr);
 
 double bic(double sum_squares_m2, int residual_count, int parameter_count, double sigma_m);
 
@@ -54,6 +55,7 @@ struct Refit {
   IdentificationResult result;                // material, estimates with 95 % intervals
   std::vector<ParameterEstimate> effect_estimates;  // the added parameters only
   SetScore train, test;
+  ResidualField train_field, test_field;      // residuals with the refit material
   double information_criterion = 0.0;         // BIC above, on the training trials
 };
 
