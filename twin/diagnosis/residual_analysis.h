@@ -12,24 +12,22 @@
 // Structure (sentences plus the numbers behind them):
 //  - warp/weft: of the normal-component residual's variance (per-stage means removed), the
 //    fraction explained by a cubic in u alone and by a cubic in v alone (per-stage
-//    coefficients), each with its F-test p-value against the per-stage means; "varies along u
+//    coefficients), each with the p-value of its explained sum of squares / sigma^2 as chi-square
+//    (known sigma) with 3 dof per stage; "varies along u
 //    (weft)" when u explains clearly more than v and is significant, and conversely.
-//  - Pearson correlation of |residual| with distance from the clamps, predicted curvature,
-//    stage load and stage age (over samples; stage age only when known for >= 2 distinct
-//    values), with a two-sided p-value (Fisher z); reported as notable when significant at
-//    alpha and |r| >= 0.2.
+//  - Pearson correlation of |residual| with distance from the clamps and predicted curvature
+//    (over samples), and of the stage's RMS residual with stage load and stage age (over
+//    stages: one value per stage, so stages count as the independent units; age only where
+//    known), with a two-sided p-value (Fisher z); notable when p < alpha and |r| >= 0.2.
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "twin/diagnosis/chi_square.h"
 #include "twin/diagnosis/residual_field.h"
 
 namespace twin::diagnosis {
-
-// Upper tail P(X >= x) of chi-square with `dof` degrees of freedom: the regularized upper
-// incomplete gamma Q(dof/2, x/2), by its series (x < a + 1) or Lentz's continued fraction.
-double chi_square_upper_tail(double x, double dof);
 
 struct ChiSquareTest {
   double chi_square = 0.0;   // sum r^2 / sigma^2
@@ -61,16 +59,16 @@ struct StageResult {
 
 struct Correlation {
   std::string quantity;      // "clamp distance", "curvature", "stage load", "stage age"
-  double r = 0.0;            // Pearson correlation with |residual|
+  double r = 0.0;            // Pearson correlation with |residual| (or the stage RMS)
   double p_value = 1.0;
-  int samples = 0;           // 0 when not computable (constant or unknown quantity)
+  int samples = 0;           // pairs used; 0 when not computable (constant or unknown quantity)
   bool notable = false;
 };
 
 struct DirectionStructure {
   double explained_by_u = 0.0;  // fraction of normal-residual variance, cubic in u per stage
   double explained_by_v = 0.0;
-  double p_u = 1.0, p_v = 1.0;  // F-test p-values
+  double p_u = 1.0, p_v = 1.0;  // chi-square p-values of the explained sums of squares
   std::string direction;        // "u", "v" or "" (neither dominates)
 };
 
