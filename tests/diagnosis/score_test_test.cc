@@ -137,9 +137,9 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   const int n = 3000;
   std::vector<dx::CandidateScore> scores(2);
   scores[0].effect = "orthotropic_stiffness";
-  scores[0].score = {900.0, 2, 1e-40, 0.6};
+  scores[0].score = {900.0, 2, 1e-40, 0.6, {}};
   scores[1].effect = "marker_mass";
-  scores[1].score = {3.0, 1, 0.08, 0.002};
+  scores[1].score = {3.0, 1, 0.08, 0.002, {}};
   const double base_bic = dx::bic(std::pow(0.6e-3, 2) * n, n, 3, sigma);
 
   // Residuals at the noise floor: nothing to name, whatever the candidates say.

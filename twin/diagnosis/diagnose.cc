@@ -132,7 +132,8 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     for (int k = 0; k < std::min<int>(o.refits, static_cast<int>(order.size())); ++k) {
       const CandidateEffect& effect = candidates[order[k]];
       say(fmt::format("diagnose: refit with {}", effect.name));
-      record.refits.push_back(refit_candidate(effect, train, test, base.material, out.sigma_m, refit_options, o.progress));
+      record.refits.push_back(refit_candidate(effect, train, test, base.material, record.scores[order[k]].score.step,
+                                              out.sigma_m, refit_options, o.progress));
     }
   } else {
     say("diagnose: the base residual is within the noise floor: no refits");

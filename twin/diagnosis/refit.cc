@@ -1,5 +1,6 @@
 #include "twin/diagnosis/refit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -42,14 +43,46 @@ double bic(double sum_squares_m2, int residual_count, int parameter_count, doubl
   return sum_squares_m2 / (sigma_m * sigma_m) + parameter_count * std::log(std::max(residual_count, 1));
 }
 
+std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
+                                   const Eigen::VectorXd& step) {
+  std::vector<Material> starts{null_material(effect, base_fit)};
+  const std::vector<MaterialParameter>& p = effect.score_parameters;
+  if (step.size() == static_cast<Eigen::Index>(p.size()) && step.allFinite() && step.norm() > 0.0) {
+    Material m = starts.front();
+    // In order, as the Jacobian's columns moved them: a paired parameter scales both
+    // directions, and its V parameter then scales the warp further.
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      const ParameterScale scale = parameter_scale(p[j]);
+      const double limit = scale.logarithmic ? std::log(4.0) : 3.0;
+      const double dy = std::clamp(step(static_cast<Eigen::Index>(j)), -limit, limit);
+      if (scale.logarithmic) {
+        scale_parameter(m, p[j], std::exp(dy));
+      } else {
+        set_parameter(m, p[j], std::clamp(get_parameter(m, p[j]) + dy * scale.scale, scale.lower, scale.upper));
+      }
+    }
+    starts.push_back(m);
+  }
+  if (effect.name == "orthotropic_stiffness") {
+    for (double ratio : {0.5, 2.0}) {
+      Material m = starts.front();
+      const double d = m.bending_rigidity_u_Nm;
+      m.bending_rigidity_u_Nm = d / std::sqrt(ratio);
+      m.bending_rigidity_v_Nm = d * std::sqrt(ratio);
+      starts.push_back(m);
+    }
+  }
+  return starts;
+}
+
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
-                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit, double sigma_m,
-                      const RefitOptions& options, const std::function<void(const std::string&)>& progress) {
+                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
+                      const Eigen::VectorXd& score_step, double sigma_m, const RefitOptions& options,
+                      const std::function<void(const std::string&)>& progress) {
   Refit r;
   r.effect = effect.name;
-  for (TrialEvaluator* t : training) t->clear_warm_starts();
-  const Material start = null_material(effect, base_fit);
-  IdentificationProblem problem(training, start, effect.refit_parameters);
+  const std::vector<Material> starts = refit_starts(effect, base_fit, score_step);
+  IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {
     problem.on_evaluation = [&](const VecX&, const IdentificationProblem::Evaluation& e) {
@@ -58,14 +91,26 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
                           : fmt::format("  refit {} eval {:3d}  failed: {}", effect.name, ++count, e.failure));
     };
   }
-  GradientOptions gradient;
-  gradient.max_evaluations = options.max_evaluations;
-  gradient.start_coordinates = problem.coordinates_of(start);
-  r.result = identify_gradient(problem, gradient);
+  std::string failures;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    for (TrialEvaluator* t : training) t->clear_warm_starts();
+    if (progress) progress(fmt::format("  refit {} from start {} of {}", effect.name, k + 1, starts.size()));
+    GradientOptions gradient;
+    gradient.max_evaluations = options.max_evaluations;
+    gradient.start_coordinates = problem.coordinates_of(starts[k]);
+    IdentificationResult result = identify_gradient(problem, gradient);
+    if (result.coordinates.size() == 0) {
+      failures += (failures.empty() ? "" : "; ") + result.stop_reason;
+      continue;
+    }
+    if (r.result.coordinates.size() == 0 || result.objective < r.result.objective) r.result = std::move(result);
+  }
   if (r.result.coordinates.size() == 0) {
-    r.failure = "no result: " + r.result.stop_reason;
+    r.failure = "no result: " + failures;
     return r;
   }
+  // The uncertainty at the kept result: its equilibria, not the last start's.
+  for (TrialEvaluator* t : training) t->clear_warm_starts();
   estimate_uncertainty(problem, r.result);
   for (std::size_t j = effect.base_count; j < r.result.estimates.size(); ++j) {
     r.effect_estimates.push_back(r.result.estimates[j]);

@@ -45,8 +45,18 @@ SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& m
 double bic(double sum_squares_m2, int residual_count, int parameter_count, double sigma_m);
 
 struct RefitOptions {
-  int max_evaluations = 60;
+  int max_evaluations = 60;  // per start
 };
+
+// Where a refit starts. A hanging sheet's misfit has several local minima (equilibria change
+// branch as the material changes), so one start is not enough: the base fit with the effect
+// absent; the Gauss-Newton one-step estimate of the score test (`step`, in the search
+// coordinates of effect.score_parameters; each coordinate's move limited to a factor 4 or 3
+// scale units, the linearisation being local); and for orthotropic stiffness warp/weft bending
+// ratios of 1/2 and 2 around the base rigidity (the isotropic fit lands between the two
+// directions, and the ratio's sign is what the data's branches disagree about).
+std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
+                                   const Eigen::VectorXd& step);
 
 struct Refit {
   std::string effect;
@@ -59,8 +69,11 @@ struct Refit {
   double information_criterion = 0.0;         // BIC above, on the training trials
 };
 
+// identify_gradient from every start of refit_starts(); the best fit (lowest training misfit)
+// is kept, with its intervals and scores.
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
-                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit, double sigma_m,
+                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
+                      const Eigen::VectorXd& score_step, double sigma_m,
                       const RefitOptions& options, const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace twin::diagnosis

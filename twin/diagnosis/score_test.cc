@@ -11,21 +11,37 @@
 namespace twin::diagnosis {
 namespace {
 
-// |P_A r|^2 and the rank of A, with A's columns scaled to unit norm first.
-std::pair<double, int> projected_square(const Eigen::MatrixXd& a, const Eigen::VectorXd& r) {
-  if (a.cols() == 0) return {0.0, 0};
+struct Projection {
+  double square = 0.0;   // |P_A r|^2
+  int rank = 0;
+  Eigen::VectorXd step;  // minimises |r + A step| (zero for columns that add no rank)
+};
+
+// With A's columns scaled to unit norm first (parameters of very different units alike).
+Projection project(const Eigen::MatrixXd& a, const Eigen::VectorXd& r) {
+  Projection p;
+  p.step = Eigen::VectorXd::Zero(a.cols());
+  if (a.cols() == 0) return p;
   const Eigen::VectorXd norms = a.colwise().norm().transpose();
   const double largest = norms.maxCoeff();
-  if (!(largest > 0.0)) return {0.0, 0};
+  if (!(largest > 0.0)) return p;
   Eigen::MatrixXd scaled(a.rows(), a.cols());
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(a.cols());
   for (Eigen::Index j = 0; j < a.cols(); ++j) {
-    scaled.col(j) = norms(j) > 1e-9 * largest ? Eigen::VectorXd(a.col(j) / norms(j)) : Eigen::VectorXd::Zero(a.rows());
+    if (norms(j) > 1e-9 * largest) inverse(j) = 1.0 / norms(j);
+    scaled.col(j) = a.col(j) * inverse(j);
   }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled);
   qr.setThreshold(1e-8);
-  const int rank = static_cast<int>(qr.rank());
+  p.rank = static_cast<int>(qr.rank());
   const Eigen::VectorXd qtr = qr.householderQ().transpose() * r;
-  return {qtr.head(rank).squaredNorm(), rank};
+  p.square = qtr.head(p.rank).squaredNorm();
+  // Basic solution over the independent columns, the others zero.
+  const Eigen::VectorXd z = qr.matrixR().topLeftCorner(p.rank, p.rank).triangularView<Eigen::Upper>().solve(qtr.head(p.rank));
+  Eigen::VectorXd permuted = Eigen::VectorXd::Zero(a.cols());
+  permuted.head(p.rank) = z;
+  p.step = -(inverse.asDiagonal() * (qr.colsPermutation() * permuted));
+  return p;
 }
 
 }  // namespace
@@ -34,12 +50,13 @@ ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::
                                const Eigen::MatrixXd& effect_jacobian, double sigma_m) {
   Eigen::MatrixXd joint(residuals_m.size(), base_jacobian.cols() + effect_jacobian.cols());
   joint << base_jacobian, effect_jacobian;
-  const auto [base_square, base_rank] = projected_square(base_jacobian, residuals_m);
-  const auto [joint_square, joint_rank] = projected_square(joint, residuals_m);
+  const Projection base = project(base_jacobian, residuals_m);
+  const Projection both = project(joint, residuals_m);
   ScoreStatistic s;
-  s.dof = joint_rank - base_rank;
+  s.step = both.step;
+  s.dof = both.rank - base.rank;
   if (s.dof <= 0) return s;
-  const double gain = std::max(0.0, joint_square - base_square);
+  const double gain = std::max(0.0, both.square - base.square);
   s.statistic = gain / (sigma_m * sigma_m);
   s.p_value = chi_square_upper_tail(s.statistic, s.dof);
   const double total = residuals_m.squaredNorm();

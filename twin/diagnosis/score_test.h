@@ -29,6 +29,10 @@ struct ScoreStatistic {
   int dof = 0;                      // rank added by the effect's columns
   double p_value = 1.0;             // upper tail of chi-square(dof) at statistic
   double explained_fraction = 0.0;  // of |r|^2
+  // The Gauss-Newton step of all the test's parameters from the base fit, in search
+  // coordinates: minimises |r + J step| (least norm where columns add no rank). A refit starts
+  // there too (refit.h): it is the one-step estimate of the effect.
+  Eigen::VectorXd step;
 };
 
 // The statistic above. Columns are scaled to unit norm before the rank-revealing QR, so
