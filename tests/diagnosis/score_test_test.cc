@@ -112,7 +112,14 @@ TEST_CASE("the effect library names its candidates and their parameters", "[diag
   // Relaxation needs stages scanned at known, different ages.
   twin::Trial trial;
   trial.stages.resize(3);
-  for (auto& s : trial.stages) s.observed.markers_m.assign(4, twin::Vec3::Zero());
+  for (std::size_t k = 0; k < trial.stages.size(); ++k) {
+    trial.stages[k].observed.markers_m.assign(4, twin::Vec3::Zero());
+    // One clamp, moved up before every stage.
+    twin::ClampPose pose;
+    pose.engaged = true;
+    pose.position_m = twin::Vec3(0.0, 0.0, 0.1 * static_cast<double>(k));
+    trial.stages[k].poses = {pose};
+  }
   const std::vector<const twin::Trial*> trials = {&trial};
   CHECK(dx::applicability(relax, trials).find("time-stamped") != std::string::npos);
   trial.stages[0].time_s = 0.0;

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "twin/diagnosis/residual_field.h"
 #include "twin/model_effects.h"
 
 namespace twin::diagnosis {
@@ -70,27 +71,17 @@ std::vector<CandidateEffect> select_effects(const std::string& list) {
   return chosen;
 }
 
-std::vector<double> stage_ages_s(const Trial& trial) {
-  std::vector<double> ages(trial.stages.size(), NAN);
-  for (std::size_t s = 1; s < trial.stages.size(); ++s) {
-    const auto& now = trial.stages[s].time_s;
-    const auto& before = trial.stages[s - 1].time_s;
-    if (now && before) ages[s] = *now - *before;
-  }
-  return ages;
-}
-
 std::string applicability(const CandidateEffect& effect, const std::vector<const Trial*>& training) {
   int marker_stages = 0;
   double youngest = INFINITY, oldest = -INFINITY;
   for (const Trial* t : training) {
-    const std::vector<double> ages = stage_ages_s(*t);
     for (std::size_t s = 0; s < t->stages.size(); ++s) {
       if (!t->stages[s].observed.has_markers()) continue;
       ++marker_stages;
-      if (std::isfinite(ages[s])) {
-        youngest = std::min(youngest, ages[s]);
-        oldest = std::max(oldest, ages[s]);
+      const double age = stage_age_s(*t, static_cast<int>(s));
+      if (std::isfinite(age)) {
+        youngest = std::min(youngest, age);
+        oldest = std::max(oldest, age);
       }
     }
   }

@@ -58,13 +58,8 @@ std::vector<CandidateEffect> select_effects(const std::string& list);
 // then skipped and the reason reported). Marker mass needs marker stages (a point mass where
 // each marker is glued: clouds do not say where that is). Relaxation needs time-stamped marker
 // stages scanned at different ages (seconds since the clamps last moved); with equal ages it is
-// indistinguishable from a stiffness change.
+// indistinguishable from a stiffness change. Ages as residual_field.h's stage_age_s().
 std::string applicability(const CandidateEffect& effect, const std::vector<const Trial*>& training);
-
-// Ages of a trial's stages (s since the clamps reached the stage's poses), NaN where unknown:
-// the stage's time_s minus the previous stage's time_s (the clamps move right after the previous
-// scan); the first stage's age is unknown.
-std::vector<double> stage_ages_s(const Trial& trial);
 
 // `material` with the candidate absent: effects at their defaults and, for orthotropic
 // stiffness, the warp (v) stiffnesses set to the weft (u) ones.
