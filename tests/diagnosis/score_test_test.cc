@@ -181,6 +181,13 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   CHECK_FALSE(unexplained.effect);
   REQUIRE(unexplained.closest);
   CHECK(*unexplained.closest == "orthotropic_stiffness");
+
+  // Significant, but no refit (no score test significant): unexplained, naming the candidate
+  // whose span took most of the residual.
+  const dx::Verdict untested = dx::decide(train, test, base_bic, scores, {}, sigma);
+  CHECK(untested.verdict == "unexplained");
+  REQUIRE(untested.closest);
+  CHECK(*untested.closest == "orthotropic_stiffness");
 }
 
 }  // namespace

@@ -129,7 +129,11 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   if (anything) {
     RefitOptions refit_options;
     refit_options.max_evaluations = o.refit_evaluations;
+    // Only candidates whose score test is significant can qualify (verdict.h): the others are
+    // not refitted.
+    const double alpha = kScoreAlpha / std::max<int>(1, static_cast<int>(order.size()));
     for (int k = 0; k < std::min<int>(o.refits, static_cast<int>(order.size())); ++k) {
+      if (!(record.scores[order[k]].score.p_value < alpha)) break;
       const CandidateEffect& effect = candidates[order[k]];
       say(fmt::format("diagnose: refit with {}", effect.name));
       record.refits.push_back(refit_candidate(effect, train, test, base.material, record.scores[order[k]].score.step,

@@ -101,7 +101,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
                         [&](std::ostream& out) { out << verdict_json(o, record).dump(2) << "\n"; });
 
   ReportData data;
-  data.verdict_line = fmt::format("{}: {}", v.verdict, v.summary);
+  data.verdict_line = v.summary;  // begins with what the verdict is
   data.noise_floor_m = o.sigma_m;
   data.noise_estimated = o.sigma_estimated;
   data.parameters.header = {"parameter", "value", "lower 95 %", "upper 95 %", "determined"};

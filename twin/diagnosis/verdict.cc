@@ -99,7 +99,16 @@ Verdict decide(const SetScore& base_train, const SetScore& base_test, double bas
                             closest->effect, 100.0 * (s ? s->score.explained_fraction : 0.0),
                             residual_test(closest->test, 0, sigma_m).rms_ratio);
   } else {
-    v.summary = "unexplained: the residual is significant and no candidate could be refitted";
+    // No refit: the candidate whose span took the largest share of the residual.
+    const CandidateScore* top = nullptr;
+    for (const CandidateScore& s : scores) {
+      if (s.skipped.empty() && (!top || s.score.explained_fraction > top->score.explained_fraction)) top = &s;
+    }
+    if (top) v.closest = top->effect;
+    v.summary = top ? fmt::format("unexplained: the residual is significant and no candidate's score test is; the "
+                                  "closest, {}, explains {:.0f} % of it",
+                                  top->effect, 100.0 * top->score.explained_fraction)
+                    : "unexplained: the residual is significant and no candidate could be tested";
   }
   return v;
 }

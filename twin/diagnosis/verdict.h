@@ -10,7 +10,8 @@
 // 2. Which candidate? A candidate qualifies when its score test is significant at
 //    kScoreAlpha / (candidates tested) (Bonferroni) and its refit lowers the BIC below the
 //    base fit's and lowers the held-out mean correspondence error. Of the qualifying ones the
-//    one with the lowest held-out sum of squares wins.
+//    one with the lowest held-out sum of squares wins. (diagnose.cc refits only candidates
+//    significant in the score test; with none, the closest is the one explaining the most.)
 // 3. Does it explain the discrepancy? The winner's training and held-out residual RMS must be
 //    within kExplainedTolerance of sigma (chi-square no longer grossly significant). Then
 //    "effect"; otherwise, or when no candidate qualifies, "unexplained", naming the closest
