@@ -22,7 +22,7 @@ struct DiagnoseOptions {
   std::vector<std::string> train, test;  // trial directories
   std::string report;                    // output directory
   std::string material;                  // optional start material file (fixed properties too)
-  int triangles = 1500;                  // twin mesh
+  int triangles = 300;                   // twin mesh: coarse by default (many fits; the blind sets use it)
   double noise_mm = 0.0;                 // per-coordinate sigma (mm); 0: estimate it
   std::string effects;                   // comma-separated candidate names; "" = all
   int refits = 3;                        // candidates refitted, best score first

@@ -18,7 +18,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
       ->required();
   cmd->add_option("--material", o.material, "material file with start values and the fixed properties")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--triangles", o.triangles, "triangles of the twin's sheet mesh")->check(CLI::Range(50, 200000));
+  cmd->add_option("--triangles", o.triangles, "triangles of the twin's sheet mesh (default 300)")->check(CLI::Range(50, 200000));
   cmd->add_option("--noise-mm", o.noise_mm, "measurement noise per coordinate, mm (default: estimated)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");
