@@ -52,7 +52,8 @@ struct RefitOptions {
 // branch as the material changes), so one start is not enough: the base fit with the effect
 // absent; the Gauss-Newton one-step estimate of the score test (`step`, in the search
 // coordinates of effect.score_parameters; each coordinate's move limited to a factor 4 or 3
-// scale units, the linearisation being local); and for orthotropic stiffness warp/weft bending
+// scale units, the linearisation being local) and, for effects with signed parameters (rest
+// curvature), its mirror with the effect part negated; and for orthotropic stiffness warp/weft bending
 // ratios of 1/2 and 2 around the base rigidity (the isotropic fit lands between the two
 // directions, and the ratio's sign is what the data's branches disagree about).
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
