@@ -53,16 +53,16 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
   const int base_count = static_cast<int>(base_parameters().size());
   bool signed_effect = false;
   for (std::size_t j = base_count; j < p.size(); ++j) signed_effect |= parameter_scale(p[j]).lower < 0.0;
-  for (double sign : {1.0, -1.0}) {
-    if (sign < 0.0 && !signed_effect) break;
-    if (!(step.size() == static_cast<Eigen::Index>(p.size()) && step.allFinite() && step.norm() > 0.0)) break;
+  const bool has_step = step.size() == static_cast<Eigen::Index>(p.size()) && step.allFinite() && step.norm() > 0.0;
+  for (const auto& [sign, length] : {std::pair{1.0, 1.0}, std::pair{1.0, 3.0}, std::pair{-1.0, 1.0}}) {
+    if ((sign < 0.0 && !signed_effect) || !has_step) continue;
     Material m = starts.front();
     // In order, as the Jacobian's columns moved them: a paired parameter scales both
     // directions, and its V parameter then scales the warp further.
     for (std::size_t j = 0; j < p.size(); ++j) {
       const ParameterScale scale = parameter_scale(p[j]);
-      const double limit = scale.logarithmic ? std::log(4.0) : 3.0;
-      const double factor = static_cast<int>(j) >= base_count ? sign : 1.0;
+      const double limit = scale.logarithmic ? std::log(8.0) : 8.0;
+      const double factor = length * (static_cast<int>(j) >= base_count ? sign : 1.0);
       const double dy = std::clamp(factor * step(static_cast<Eigen::Index>(j)), -limit, limit);
       if (scale.logarithmic) {
         scale_parameter(m, p[j], std::exp(dy));

@@ -51,9 +51,10 @@ struct RefitOptions {
 // Where a refit starts. A hanging sheet's misfit has several local minima (equilibria change
 // branch as the material changes), so one start is not enough: the base fit with the effect
 // absent; the Gauss-Newton one-step estimate of the score test (`step`, in the search
-// coordinates of effect.score_parameters; each coordinate's move limited to a factor 4 or 3
-// scale units, the linearisation being local) and, for effects with signed parameters (rest
-// curvature), its mirror with the effect part negated; and for orthotropic stiffness warp/weft bending
+// coordinates of effect.score_parameters), once and three times as long (a quartic or
+// strongly nonlinear effect is underestimated by the linearisation), each coordinate's move
+// limited to a factor 8 or 8 scale units; for effects with signed parameters (rest
+// curvature) also its mirror with the effect part negated; and for orthotropic stiffness warp/weft bending
 // ratios of 1/2 and 2 around the base rigidity (the isotropic fit lands between the two
 // directions, and the ratio's sign is what the data's branches disagree about).
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
