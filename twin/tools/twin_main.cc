@@ -2,6 +2,7 @@
 //   twin solve SCENARIO --out DIR      equilibrium at every stage of a scenario (PLY + summary)
 //   twin material FILE                 check a material file and print what the twin will use
 //   twin identify --train DIR... --out FILE   material parameters from scanned trials
+//   twin diagnose --train DIR... --test DIR... --report OUT   find, name and add a missing effect
 // Exit status: 0 success, 1 bad input (the message names the file and field), 2 a stage did
 // not converge (its result is not written; later stages are skipped because they depend on it).
 
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "diagnose_command.h"
 #include "identify_command.h"
 #include "twin/atomic_file.h"
 #include "twin/mesh_io.h"
@@ -148,12 +150,16 @@ int main(int argc, char** argv) {
   twin_cli::IdentifyArguments identify;
   CLI::App* identify_cmd = twin_cli::add_identify_command(app, identify);
 
+  twin_cli::DiagnoseArguments diagnose;
+  CLI::App* diagnose_cmd = twin_cli::add_diagnose_command(app, diagnose);
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
     if (*solve_cmd) return solve(scenario, out_dir, verbose);
     if (*material_cmd) return describe_material(material);
     if (*identify_cmd) return twin_cli::run_identify(identify);
+    if (*diagnose_cmd) return twin_cli::run_diagnose(diagnose);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

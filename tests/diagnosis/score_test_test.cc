@@ -1,0 +1,193 @@
+// The score test of candidate effects (twin/diagnosis/score_test.h) and the verdict
+// (verdict.h) on synthetic residuals and Jacobians: no simulation.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "twin/diagnosis/effect_library.h"
+#include "twin/diagnosis/score_test.h"
+#include "twin/diagnosis/verdict.h"
+
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+namespace dx = twin::diagnosis;
+
+MatrixXd gaussian(int rows, int cols, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> n(0.0, scale);
+  MatrixXd m(rows, cols);
+  for (int j = 0; j < cols; ++j) {
+    for (int i = 0; i < rows; ++i) m(i, j) = n(rng);
+  }
+  return m;
+}
+
+TEST_CASE("the score statistic is chi-square with the effect's dof under the null", "[diagnosis][score]") {
+  std::mt19937 rng(11);
+  const int n = 300;
+  const double sigma = 0.3e-3;
+  // Jacobian columns of very different scales (m per unit of search coordinate), as real ones.
+  MatrixXd base = gaussian(n, 3, rng, 1e-2);
+  base.col(2) *= 1e-3;
+  const MatrixXd effect = gaussian(n, 2, rng, 5e-4);
+  const int draws = 400;
+  double mean = 0.0;
+  int rejected = 0;
+  for (int d = 0; d < draws; ++d) {
+    const VectorXd r = gaussian(n, 1, rng, sigma);
+    const dx::ScoreStatistic s = dx::score_statistic(r, base, effect, sigma);
+    REQUIRE(s.dof == 2);
+    mean += s.statistic / draws;
+    rejected += s.p_value < 0.05 ? 1 : 0;
+  }
+  // Mean of chi-square(2) is 2 (standard error of the mean over 400 draws: 0.1).
+  CHECK(mean == Approx(2.0).margin(0.35));
+  // About 5 % rejected at 5 % (binomial sd 1.1 %).
+  CHECK(rejected >= 8);
+  CHECK(rejected <= 36);
+}
+
+TEST_CASE("the score statistic is large when the residual lies in the effect's span", "[diagnosis][score]") {
+  std::mt19937 rng(5);
+  const int n = 600;
+  const double sigma = 0.3e-3;
+  const MatrixXd base = gaussian(n, 3, rng, 1e-2);
+  const MatrixXd effect = gaussian(n, 1, rng, 1e-3);
+  const MatrixXd other = gaussian(n, 2, rng, 1e-3);
+  // A missing effect worth 0.5 mm RMS on top of the noise, plus a part the base explains.
+  const VectorXd signal = effect.col(0) * (0.5e-3 / (effect.col(0).norm() / std::sqrt(n)));
+  const VectorXd r = signal + base * VectorXd::Constant(3, 1e-3) + gaussian(n, 1, rng, sigma);
+  const dx::ScoreStatistic right = dx::score_statistic(r, base, effect, sigma);
+  const dx::ScoreStatistic wrong = dx::score_statistic(r, base, other, sigma);
+  INFO("right " << right.statistic << " (" << right.explained_fraction << "), wrong " << wrong.statistic);
+  CHECK(right.dof == 1);
+  CHECK(right.statistic > 1000.0);
+  CHECK(right.p_value < 1e-12);
+  CHECK(right.explained_fraction > 0.5);
+  // An unrelated candidate's span takes almost none of it.
+  CHECK(wrong.statistic < 0.05 * right.statistic);
+  CHECK(wrong.explained_fraction < 0.05);
+}
+
+TEST_CASE("columns without sensitivity or inside the base span add no dof", "[diagnosis][score]") {
+  std::mt19937 rng(2);
+  const int n = 100;
+  const MatrixXd base = gaussian(n, 3, rng);
+  MatrixXd effect(n, 2);
+  effect.col(0).setZero();                       // the physics ignores the parameter
+  effect.col(1) = base.col(0) - 2.0 * base.col(2);  // moves the markers like base parameters do
+  const VectorXd r = gaussian(n, 1, rng, 1e-3);
+  const dx::ScoreStatistic s = dx::score_statistic(r, base, effect, 1e-3);
+  CHECK(s.dof == 0);
+  CHECK(s.statistic == 0.0);
+  CHECK(s.p_value == 1.0);
+}
+
+TEST_CASE("the effect library names its candidates and their parameters", "[diagnosis][effects]") {
+  REQUIRE(dx::effect_library().size() == 5);
+  const dx::CandidateEffect& ortho = dx::find_effect("orthotropic_stiffness");
+  CHECK(ortho.score_dof() == 2);
+  CHECK(ortho.added_count() == 2);
+  CHECK(dx::find_effect("rest_curvature").score_dof() == 3);
+  const dx::CandidateEffect& relax = dx::find_effect("viscoelastic_relaxation");
+  CHECK(relax.score_dof() == 1);   // the fraction, tau at its default
+  CHECK(relax.added_count() == 2);  // the refit frees tau too
+  CHECK_THROWS_WITH(dx::find_effect("clamp_slip"), Catch::Contains("clamp_slip") && Catch::Contains("marker_mass"));
+  CHECK(dx::select_effects("").size() == 5);
+  CHECK(dx::select_effects("marker_mass,nonlinear_bending").size() == 2);
+  CHECK_THROWS_WITH(dx::select_effects("marker_mass,gravity"), Catch::Contains("gravity"));
+
+  // Orthotropic: the null material is isotropic with the weft values.
+  twin::Material m;
+  m.bending_rigidity_u_Nm = 2e-3;
+  m.bending_rigidity_v_Nm = 5e-4;
+  m.effects.marker_mass_kg = 1e-4;
+  const twin::Material null = dx::null_material(ortho, m);
+  CHECK(null.bending_rigidity_v_Nm == 2e-3);
+  CHECK(null.effects.marker_mass_kg == 1e-4);  // other effects stay
+  CHECK(dx::null_material(dx::find_effect("marker_mass"), m).effects.marker_mass_kg == 0.0);
+
+  // Relaxation needs stages scanned at known, different ages.
+  twin::Trial trial;
+  trial.stages.resize(3);
+  for (std::size_t k = 0; k < trial.stages.size(); ++k) {
+    trial.stages[k].observed.markers_m.assign(4, twin::Vec3::Zero());
+    // One clamp, moved up before every stage.
+    twin::ClampPose pose;
+    pose.engaged = true;
+    pose.position_m = twin::Vec3(0.0, 0.0, 0.1 * static_cast<double>(k));
+    trial.stages[k].poses = {pose};
+  }
+  const std::vector<const twin::Trial*> trials = {&trial};
+  CHECK(dx::applicability(relax, trials).find("time-stamped") != std::string::npos);
+  trial.stages[0].time_s = 0.0;
+  trial.stages[1].time_s = 60.0;
+  trial.stages[2].time_s = 120.0;
+  CHECK(dx::applicability(relax, trials).find("different ages") != std::string::npos);
+  trial.stages[2].time_s = 960.0;
+  CHECK(dx::applicability(relax, trials).empty());
+  CHECK(dx::applicability(dx::find_effect("marker_mass"), trials).empty());
+}
+
+dx::SetScore set_with(double rms_m, int count, double mean_m) {
+  dx::SetScore s;
+  s.residual_count = count;
+  s.sum_squares_m2 = rms_m * rms_m * count;
+  s.mean_correspondence_m = mean_m;
+  return s;
+}
+
+TEST_CASE("the verdict: none within the noise, an effect that explains it, or unexplained", "[diagnosis][verdict]") {
+  const double sigma = 0.3e-3;
+  const int n = 3000;
+  std::vector<dx::CandidateScore> scores(2);
+  scores[0].effect = "orthotropic_stiffness";
+  scores[0].score = {900.0, 2, 1e-40, 0.6, {}};
+  scores[1].effect = "marker_mass";
+  scores[1].score = {3.0, 1, 0.08, 0.002, {}};
+  const double base_bic = dx::bic(std::pow(0.6e-3, 2) * n, n, 3, sigma);
+
+  // Residuals at the noise floor: nothing to name, whatever the candidates say.
+  const dx::Verdict none = dx::decide(set_with(1.01 * sigma, n, 0.5e-3), set_with(0.99 * sigma, n, 0.5e-3), base_bic,
+                                      scores, {}, sigma);
+  CHECK(none.verdict == "none");
+  CHECK_FALSE(none.effect);
+
+  // Twice the noise; the orthotropic refit brings it back to the floor.
+  std::vector<dx::Refit> refits(2);
+  refits[0].effect = "orthotropic_stiffness";
+  refits[0].train = set_with(1.02 * sigma, n, 0.5e-3);
+  refits[0].test = set_with(1.05 * sigma, n, 0.52e-3);
+  refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
+  refits[1].effect = "marker_mass";
+  refits[1].train = set_with(0.59e-3, n, 0.9e-3);
+  refits[1].test = set_with(0.6e-3, n, 0.95e-3);
+  refits[1].information_criterion = dx::bic(refits[1].train.sum_squares_m2, n, 4, sigma);
+  const dx::SetScore train = set_with(0.6e-3, n, 1.0e-3), test = set_with(0.6e-3, n, 1.0e-3);
+  const dx::Verdict named = dx::decide(train, test, base_bic, scores, refits, sigma);
+  INFO(named.summary);
+  CHECK(named.verdict == "effect");
+  REQUIRE(named.effect);
+  CHECK(*named.effect == "orthotropic_stiffness");
+
+  // The same refit leaving half the discrepancy: significant, but not explained.
+  refits[0].train = set_with(0.45e-3, n, 0.75e-3);
+  refits[0].test = set_with(0.46e-3, n, 0.77e-3);
+  refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
+  const dx::Verdict unexplained = dx::decide(train, test, base_bic, scores, refits, sigma);
+  CHECK(unexplained.verdict == "unexplained");
+  CHECK_FALSE(unexplained.effect);
+  REQUIRE(unexplained.closest);
+  CHECK(*unexplained.closest == "orthotropic_stiffness");
+
+  // Significant, but no refit (no score test significant): unexplained, naming the candidate
+  // whose span took most of the residual.
+  const dx::Verdict untested = dx::decide(train, test, base_bic, scores, {}, sigma);
+  CHECK(untested.verdict == "unexplained");
+  REQUIRE(untested.closest);
+  CHECK(*untested.closest == "orthotropic_stiffness");
+}
+
+}  // namespace

@@ -1,0 +1,160 @@
+#include "twin/diagnosis/diagnose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "twin/diagnosis/diagnosis_output.h"
+#include "twin/diagnosis/noise_estimate.h"
+
+namespace twin::diagnosis {
+namespace {
+
+// Start values and fixed properties: the --material file, or the paper's middle screening
+// candidate (5000 N/m, 5000 N/m, 0.001 N*m, Poisson 0.3) like `twin identify`; thickness from
+// the trial.
+Material start_material(const DiagnoseOptions& o, const Trial& first) {
+  Material m;
+  if (!o.material.empty()) {
+    m = read_material_file(o.material);
+  } else {
+    m.tensile_stiffness_u_N_m = m.tensile_stiffness_v_N_m = 5000.0;
+    m.shear_stiffness_N_m = 5000.0;
+    m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 1e-3;
+    m.poisson_ratio = 0.3;
+    m.thickness_m = first.thickness_m;
+    m.name = first.material_name;
+  }
+  // The base fit is isotropic: a start with different warp and weft takes the weft values.
+  m.tensile_stiffness_v_N_m = m.tensile_stiffness_u_N_m;
+  m.bending_rigidity_v_Nm = m.bending_rigidity_u_Nm;
+  m.bending_modulus_u_Pa.reset();
+  m.bending_modulus_v_Pa.reset();
+  return m;
+}
+
+std::vector<std::unique_ptr<TrialEvaluator>> load(const std::vector<std::string>& dirs, int triangles,
+                                                  const Material& material) {
+  std::vector<std::unique_ptr<TrialEvaluator>> out;
+  for (const std::string& d : dirs) out.push_back(std::make_unique<TrialEvaluator>(read_trial(d), triangles, material));
+  return out;
+}
+
+std::vector<TrialEvaluator*> pointers(const std::vector<std::unique_ptr<TrialEvaluator>>& v) {
+  std::vector<TrialEvaluator*> out;
+  for (const auto& e : v) out.push_back(e.get());
+  return out;
+}
+
+}  // namespace
+
+double noise_floor_mean_m(double sigma_m) { return sigma_m * std::sqrt(8.0 / std::numbers::pi); }
+
+DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
+  if (o.train.empty()) throw std::invalid_argument("--train: at least one training trial directory is needed");
+  if (o.test.empty()) throw std::invalid_argument("--test: at least one held-out trial directory is needed");
+  if (o.report.empty()) throw std::invalid_argument("--report: an output directory is needed");
+  if (!(o.noise_mm >= 0.0) || !std::isfinite(o.noise_mm)) {
+    throw std::invalid_argument(fmt::format("--noise-mm: expected a positive number of mm, got {}", o.noise_mm));
+  }
+  auto say = [&](const std::string& line) {
+    if (o.progress) o.progress(line);
+  };
+  const std::vector<CandidateEffect> candidates = select_effects(o.effects);
+  const Trial first = read_trial(o.train.front());
+  Material start = start_material(o, first);
+  start.validate();
+  auto train_owned = load(o.train, o.triangles, start);
+  auto test_owned = load(o.test, o.triangles, start);
+  const std::vector<TrialEvaluator*> train = pointers(train_owned), test = pointers(test_owned);
+
+  // 1. The base fit.
+  say(fmt::format("diagnose: base fit of {} on {} training trial(s), twin mesh {} triangles", first.material_name,
+                  train.size(), train.front()->model().mesh().triangle_count()));
+  IdentificationProblem problem(train, start, base_parameters());
+  int count = 0;
+  problem.on_evaluation = [&](const VecX&, const IdentificationProblem::Evaluation& e) {
+    say(e.usable() ? fmt::format("  base eval {:3d}  rms {:.3f} mm  ({:.2f} s)", ++count,
+                                 1e3 * std::sqrt(e.mean_square_m2), e.seconds)
+                   : fmt::format("  base eval {:3d}  failed: {}", ++count, e.failure));
+  };
+  GradientOptions gradient;
+  gradient.max_evaluations = o.base_evaluations;
+  IdentificationResult base = identify_gradient(problem, gradient);
+  if (base.coordinates.size() == 0) throw std::runtime_error("the base fit failed: " + base.stop_reason);
+  estimate_uncertainty(problem, base);
+
+  // 2. Residuals of the base fit, the noise, the analysis.
+  DiagnoseOutcome out;
+  DiagnosisRecord record;
+  record.base = base;
+  record.train_before.fitted_parameters = static_cast<int>(base_parameters().size());
+  out.base_train = score_set(train, base.material, base_parameters(), &record.train_before);
+  out.base_test = score_set(test, base.material, base_parameters(), &record.test_before);
+  if (!out.base_train.usable()) throw std::runtime_error("the base fit does not simulate: " + out.base_train.failure);
+  if (!out.base_test.usable()) throw std::runtime_error("a held-out trial does not simulate: " + out.base_test.failure);
+  if (o.noise_mm > 0.0) {
+    out.sigma_m = 1e-3 * o.noise_mm;
+  } else {
+    const NoiseEstimate noise = estimate_noise(record.train_before);
+    out.sigma_m = noise.sigma_m;
+    out.sigma_estimated = true;
+    say(fmt::format("diagnose: noise sigma estimated {:.3f} mm per coordinate ({}, {} differences)",
+                    1e3 * out.sigma_m, noise.method, noise.differences_used));
+  }
+  out.noise_floor_m = noise_floor_mean_m(out.sigma_m);
+
+  // 3. Score tests, refits of the best few, the verdict.
+  say(fmt::format("diagnose: score tests of {} candidate(s) at the base fit", candidates.size()));
+  record.scores = score_candidates(candidates, train, base.material, out.sigma_m);
+  std::vector<int> order;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (record.scores[i].skipped.empty()) order.push_back(static_cast<int>(i));
+  }
+  // Rank by p-value; equal (underflowed) p-values by the statistic per dof.
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const ScoreStatistic &sa = record.scores[a].score, &sb = record.scores[b].score;
+    if (sa.p_value != sb.p_value) return sa.p_value < sb.p_value;
+    return sa.statistic / sa.dof > sb.statistic / sb.dof;
+  });
+  const double base_bic = bic(out.base_train.sum_squares_m2, out.base_train.residual_count,
+                              static_cast<int>(base_parameters().size()), out.sigma_m);
+  const bool anything = residual_test(out.base_train, 3, out.sigma_m).significant ||
+                        residual_test(out.base_test, 0, out.sigma_m).significant;
+  if (anything) {
+    RefitOptions refit_options;
+    refit_options.max_evaluations = o.refit_evaluations;
+    // Only candidates whose score test is significant can qualify (verdict.h): the others are
+    // not refitted.
+    const double alpha = kScoreAlpha / std::max<int>(1, static_cast<int>(order.size()));
+    for (int k = 0; k < std::min<int>(o.refits, static_cast<int>(order.size())); ++k) {
+      if (!(record.scores[order[k]].score.p_value < alpha)) break;
+      const CandidateEffect& effect = candidates[order[k]];
+      say(fmt::format("diagnose: refit with {}", effect.name));
+      record.refits.push_back(refit_candidate(effect, train, test, base.material, record.scores[order[k]].score.step,
+                                              out.sigma_m, refit_options, o.progress));
+    }
+  } else {
+    say("diagnose: the base residual is within the noise floor: no refits");
+  }
+  out.verdict = decide(out.base_train, out.base_test, base_bic, record.scores, record.refits, out.sigma_m);
+  record.base_bic = base_bic;
+  record.ranking = order;
+
+  // 4 and 5. Files.
+  if (out.verdict.chosen) {
+    out.parameters = out.verdict.chosen->result.estimates;
+    out.after_train = out.verdict.chosen->train;
+    out.after_test = out.verdict.chosen->test;
+  }
+  out.summary_text = write_diagnosis_files(o, out, record, candidates);
+  out.verdict.chosen = nullptr;  // pointed into the record, which ends here
+  return out;
+}
+
+}  // namespace twin::diagnosis

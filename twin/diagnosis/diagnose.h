@@ -1,0 +1,53 @@
+#pragma once
+// The discrepancy workflow end to end (issue 6), as `twin diagnose` runs it:
+//   1. base fit: identify_gradient of the paper's three parameters on the training trials;
+//   2. find: the residual field of the base fit on training and held-out trials, the noise
+//      sigma (given, or estimated from the training residuals: noise_estimate.h), the analysis
+//      (residual_analysis.h);
+//   3. name: the score test of every candidate effect at the base fit; when the base residual
+//      is significant, refits of the best few; the verdict (verdict.h);
+//   4. add: OUT/material_augmented.json (the base material file with the named effect);
+//   5. show: OUT/verdict.json, OUT/report.md with figures, and the terminal summary.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "twin/diagnosis/verdict.h"
+
+namespace twin::diagnosis {
+
+struct DiagnoseOptions {
+  std::vector<std::string> train, test;  // trial directories
+  std::string report;                    // output directory
+  std::string material;                  // optional start material file (fixed properties too)
+  int triangles = 300;                   // twin mesh: coarse by default (many fits; the blind sets use it)
+  double noise_mm = 0.0;                 // per-coordinate sigma (mm); 0: estimate it
+  std::string effects;                   // comma-separated candidate names; "" = all
+  int refits = 3;                        // candidates refitted, best score first
+  int base_evaluations = 80;             // budget of the base fit
+  int refit_evaluations = 60;            // budget of each refit
+  std::function<void(const std::string&)> progress;  // progress lines (none when empty)
+};
+
+struct DiagnoseOutcome {
+  Verdict verdict;
+  double sigma_m = 0.0;
+  bool sigma_estimated = false;
+  double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
+  SetScore base_train, base_test;
+  // With the named effect (verdict "effect"), or the closest candidate ("unexplained"):
+  std::vector<ParameterEstimate> parameters;  // every fitted parameter, 95 % intervals
+  std::optional<SetScore> after_train, after_test;
+  std::string summary_text;    // the terminal summary
+};
+
+// Throws std::invalid_argument / std::runtime_error for bad input (naming the file and field).
+DiagnoseOutcome run_diagnosis(const DiagnoseOptions& options);
+
+// Mean of |e| for e with independent N(0, sigma^2) coordinates in 3D: sigma sqrt(8 / pi). The
+// correspondence error a perfect model would leave (the "noise floor" of verdict.json).
+double noise_floor_mean_m(double sigma_m);
+
+}  // namespace twin::diagnosis

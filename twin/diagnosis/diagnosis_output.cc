@@ -1,0 +1,151 @@
+#include "twin/diagnosis/diagnosis_output.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "twin/atomic_file.h"
+#include "twin/diagnosis/diagnosis_report.h"
+
+namespace twin::diagnosis {
+namespace {
+
+nlohmann::json estimates_json(const std::vector<ParameterEstimate>& estimates) {
+  nlohmann::json p = nlohmann::json::object();
+  for (const ParameterEstimate& e : estimates) {
+    p[std::string(parameter_name(e.parameter))] = {
+        {"value", e.value}, {"lower95", e.lower95}, {"upper95", e.upper95}, {"determined", e.determined}};
+  }
+  return p;
+}
+
+nlohmann::json before_after(const SetScore& before, const std::optional<SetScore>& after, bool effect) {
+  const double b = 1e3 * before.mean_correspondence_m;
+  return {{"before_mean_mm", b}, {"after_mean_mm", effect && after ? 1e3 * after->mean_correspondence_m : b}};
+}
+
+std::string fixed(double v, int digits) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : "-"; }
+std::string general(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "-"; }
+
+const Refit* refit_of(const DiagnosisRecord& r, const std::string& effect) {
+  for (const Refit& f : r.refits) {
+    if (f.effect == effect) return &f;
+  }
+  return nullptr;
+}
+
+ResidualAnalysis analyse(const ResidualField& field, double sigma_m) { return analyse_residuals(field, sigma_m); }
+
+}  // namespace
+
+nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& record) {
+  const Verdict& v = o.verdict;
+  const bool effect = v.verdict == "effect";
+  nlohmann::json j;
+  j["verdict"] = v.verdict;
+  j["effect"] = effect ? nlohmann::json(*v.effect) : nlohmann::json(nullptr);
+  j["closest"] = v.closest ? nlohmann::json(*v.closest) : nlohmann::json(nullptr);
+  j["summary"] = v.summary;
+  // The named effect's refit (every fitted parameter); otherwise the base fit's.
+  j["parameters"] = estimates_json(effect ? o.parameters : record.base.estimates);
+  j["noise_floor_mm"] = 1e3 * o.noise_floor_m;
+  j["noise_sigma_mm"] = 1e3 * o.sigma_m;
+  j["noise_estimated"] = o.sigma_estimated;
+  j["held_out"] = before_after(o.base_test, o.after_test, effect);
+  j["train"] = before_after(o.base_train, o.after_train, effect);
+  j["evidence"] = v.reasons;
+  j["candidates"] = nlohmann::json::array();
+  auto candidate = [&](const CandidateScore& s) {
+    nlohmann::json c{{"effect", s.effect},
+                     {"score_statistic", s.score.statistic},
+                     {"dof", s.score.dof},
+                     {"p_value", s.score.p_value},
+                     {"explained_fraction", s.score.explained_fraction},
+                     {"skipped", s.skipped.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.skipped)},
+                     {"refit", nullptr}};
+    if (const Refit* r = refit_of(record, s.effect)) {
+      c["refit"] = r->usable() ? nlohmann::json{{"parameters", estimates_json(r->result.estimates)},
+                                                {"bic", r->information_criterion},
+                                                {"bic_base", record.base_bic},
+                                                {"train_mean_mm", 1e3 * r->train.mean_correspondence_m},
+                                                {"held_out_mean_mm", 1e3 * r->test.mean_correspondence_m},
+                                                {"held_out_rms_mm", 1e3 * r->test.rms_m()}}
+                               : nlohmann::json{{"failure", r->failure}};
+    }
+    j["candidates"].push_back(c);
+  };
+  for (int i : record.ranking) candidate(record.scores[i]);
+  for (const CandidateScore& s : record.scores) {
+    if (!s.skipped.empty()) candidate(s);
+  }
+  return j;
+}
+
+std::string write_diagnosis_files(const DiagnoseOptions& options, const DiagnoseOutcome& o,
+                                  const DiagnosisRecord& record, const std::vector<CandidateEffect>& candidates) {
+  const std::filesystem::path dir(options.report);
+  std::filesystem::create_directories(dir);
+  const Verdict& v = o.verdict;
+  const bool effect = v.verdict == "effect";
+  const std::filesystem::path augmented = dir / "material_augmented.json";
+  if (effect) {
+    Material m = v.chosen->result.material;
+    m.name = record.base.material.name + " + " + *v.effect;
+    write_material_file(augmented.string(), m);
+  } else {
+    std::filesystem::remove(augmented);  // a stale one from an earlier run would mislead
+  }
+  write_file_atomically(dir / "verdict.json",
+                        [&](std::ostream& out) { out << verdict_json(o, record).dump(2) << "\n"; });
+
+  ReportData data;
+  data.verdict_line = v.summary;  // begins with what the verdict is
+  data.noise_floor_m = o.sigma_m;
+  data.noise_estimated = o.sigma_estimated;
+  data.parameters.header = {"parameter", "value", "lower 95 %", "upper 95 %", "determined"};
+  for (const ParameterEstimate& e : effect ? o.parameters : record.base.estimates) {
+    data.parameters.rows.push_back({std::string(parameter_name(e.parameter)), general(e.value), general(e.lower95),
+                                    general(e.upper95), e.determined ? "yes" : "no"});
+  }
+  data.candidates.header = {"candidate", "score", "dof", "p", "explained %", "refit held-out mm", "BIC - base", "note"};
+  auto row = [&](const CandidateScore& s) {
+    const Refit* r = refit_of(record, s.effect);
+    const bool fitted = r && r->usable();
+    data.candidates.rows.push_back({s.effect, fixed(s.score.statistic, 1), std::to_string(s.score.dof),
+                                    general(s.score.p_value), fixed(100 * s.score.explained_fraction, 1),
+                                    fitted ? fixed(1e3 * r->test.mean_correspondence_m, 3) : "-",
+                                    fitted ? fixed(r->information_criterion - record.base_bic, 1) : "-",
+                                    s.skipped.empty() ? (r && !r->usable() ? r->failure : "") : s.skipped});
+  };
+  for (int i : record.ranking) row(record.scores[i]);
+  for (const CandidateScore& s : record.scores) {
+    if (!s.skipped.empty()) row(s);
+  }
+  data.notes = v.reasons;
+  data.notes.push_back(fmt::format("noise sigma {:.3f} mm per coordinate ({}); noise floor of the mean "
+                                   "correspondence error {:.3f} mm",
+                                   1e3 * o.sigma_m, o.sigma_estimated ? "estimated from the training residuals" : "given",
+                                   1e3 * o.noise_floor_m));
+  data.notes.push_back(fmt::format("candidates considered: {}; base fit {} ({} evaluations)", candidates.size(),
+                                   record.base.stop_reason, record.base.evaluations));
+  if (v.chosen) data.after_label = "with " + v.chosen->effect;
+  auto phase = [&](const std::string& name, const ResidualField& before, const ResidualField* after) {
+    ReportPhase p;
+    p.name = name;
+    p.before = before;
+    p.before_analysis = analyse(before, o.sigma_m);
+    if (after) {
+      p.after = *after;
+      p.after_analysis = analyse(*after, o.sigma_m);
+    }
+    data.phases.push_back(std::move(p));
+  };
+  phase("train", record.train_before, v.chosen ? &v.chosen->train_field : nullptr);
+  phase("held-out", record.test_before, v.chosen ? &v.chosen->test_field : nullptr);
+  write_report(data, dir);
+  return terminal_summary(data);
+}
+
+}  // namespace twin::diagnosis

@@ -1,0 +1,137 @@
+#include "twin/diagnosis/refit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+namespace twin::diagnosis {
+
+double SetScore::rms_m() const { return residual_count > 0 ? std::sqrt(sum_squares_m2 / residual_count) : NAN; }
+
+SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field) {
+  SetScore s;
+  int marker_stages = 0;
+  for (TrialEvaluator* t : trials) {
+    t->clear_warm_starts();
+    const TrialFit fit = t->evaluate(material, parameters);
+    const std::string name = std::filesystem::path(t->trial().directory).filename().string();
+    if (!fit.usable()) {
+      s.failure = fmt::format("{}: {}", t->trial().directory, fit.failure);
+      return s;
+    }
+    for (const StageFit& stage : fit.stages) {
+      StageScore row{name, stage.id, NAN, stage.nearest.mean_m};
+      if (stage.correspondence) {
+        row.correspondence_mean_m = stage.correspondence->mean_m;
+        s.mean_correspondence_m += stage.correspondence->mean_m;
+        ++marker_stages;
+      }
+      s.stages.push_back(row);
+    }
+    if (field) add_trial_residuals(*field, *t, fit, name);
+    s.sum_squares_m2 += fit.sum_squares_m2;
+    s.residual_count += fit.residual_count;
+  }
+  s.mean_correspondence_m = marker_stages > 0 ? s.mean_correspondence_m / marker_stages : NAN;
+  return s;
+}
+
+double bic(double sum_squares_m2, int residual_count, int parameter_count, double sigma_m) {
+  return sum_squares_m2 / (sigma_m * sigma_m) + parameter_count * std::log(std::max(residual_count, 1));
+}
+
+std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
+                                   const Eigen::VectorXd& step) {
+  std::vector<Material> starts{null_material(effect, base_fit)};
+  const std::vector<MaterialParameter>& p = effect.score_parameters;
+  // The one-step estimate, and for effects with signed parameters also its mirror: curvature
+  // of either sign bends a hanging sheet alike to first order, so the linearisation's sign is
+  // weak evidence.
+  const int base_count = static_cast<int>(base_parameters().size());
+  bool signed_effect = false;
+  for (std::size_t j = base_count; j < p.size(); ++j) signed_effect |= parameter_scale(p[j]).lower < 0.0;
+  const bool has_step = step.size() == static_cast<Eigen::Index>(p.size()) && step.allFinite() && step.norm() > 0.0;
+  for (const auto& [sign, length] : {std::pair{1.0, 1.0}, std::pair{1.0, 3.0}, std::pair{-1.0, 1.0}}) {
+    if ((sign < 0.0 && !signed_effect) || !has_step) continue;
+    Material m = starts.front();
+    // In order, as the Jacobian's columns moved them: a paired parameter scales both
+    // directions, and its V parameter then scales the warp further.
+    for (std::size_t j = 0; j < p.size(); ++j) {
+      const ParameterScale scale = parameter_scale(p[j]);
+      const double limit = scale.logarithmic ? std::log(8.0) : 8.0;
+      const double factor = length * (static_cast<int>(j) >= base_count ? sign : 1.0);
+      const double dy = std::clamp(factor * step(static_cast<Eigen::Index>(j)), -limit, limit);
+      if (scale.logarithmic) {
+        scale_parameter(m, p[j], std::exp(dy));
+      } else {
+        set_parameter(m, p[j], std::clamp(get_parameter(m, p[j]) + dy * scale.scale, scale.lower, scale.upper));
+      }
+    }
+    starts.push_back(m);
+  }
+  if (effect.name == "orthotropic_stiffness") {
+    for (double ratio : {0.5, 2.0}) {
+      Material m = starts.front();
+      const double d = m.bending_rigidity_u_Nm;
+      m.bending_rigidity_u_Nm = d / std::sqrt(ratio);
+      m.bending_rigidity_v_Nm = d * std::sqrt(ratio);
+      starts.push_back(m);
+    }
+  }
+  return starts;
+}
+
+Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
+                      const Eigen::VectorXd& score_step, double sigma_m, const RefitOptions& options,
+                      const std::function<void(const std::string&)>& progress) {
+  Refit r;
+  r.effect = effect.name;
+  const std::vector<Material> starts = refit_starts(effect, base_fit, score_step);
+  IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
+  int count = 0;
+  if (progress) {
+    problem.on_evaluation = [&](const VecX&, const IdentificationProblem::Evaluation& e) {
+      progress(e.usable() ? fmt::format("  refit {} eval {:3d}  rms {:.3f} mm  ({:.2f} s)", effect.name, ++count,
+                                        1e3 * std::sqrt(e.mean_square_m2), e.seconds)
+                          : fmt::format("  refit {} eval {:3d}  failed: {}", effect.name, ++count, e.failure));
+    };
+  }
+  std::string failures;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    for (TrialEvaluator* t : training) t->clear_warm_starts();
+    if (progress) progress(fmt::format("  refit {} from start {} of {}", effect.name, k + 1, starts.size()));
+    GradientOptions gradient;
+    gradient.max_evaluations = options.max_evaluations;
+    gradient.start_coordinates = problem.coordinates_of(starts[k]);
+    IdentificationResult result = identify_gradient(problem, gradient);
+    if (result.coordinates.size() == 0) {
+      failures += (failures.empty() ? "" : "; ") + result.stop_reason;
+      continue;
+    }
+    if (r.result.coordinates.size() == 0 || result.objective < r.result.objective) r.result = std::move(result);
+  }
+  if (r.result.coordinates.size() == 0) {
+    r.failure = "no result: " + failures;
+    return r;
+  }
+  // The uncertainty at the kept result: its equilibria, not the last start's.
+  for (TrialEvaluator* t : training) t->clear_warm_starts();
+  estimate_uncertainty(problem, r.result);
+  for (std::size_t j = effect.base_count; j < r.result.estimates.size(); ++j) {
+    r.effect_estimates.push_back(r.result.estimates[j]);
+  }
+  r.train_field.fitted_parameters = static_cast<int>(effect.refit_parameters.size());
+  r.train = score_set(training, r.result.material, effect.refit_parameters, &r.train_field);
+  r.test = score_set(testing, r.result.material, effect.refit_parameters, &r.test_field);
+  if (!r.train.usable()) r.failure = r.train.failure;
+  else if (!r.test.usable()) r.failure = r.test.failure;
+  r.information_criterion = bic(r.train.sum_squares_m2, r.train.residual_count,
+                                static_cast<int>(effect.refit_parameters.size()), sigma_m);
+  return r;
+}
+
+}  // namespace twin::diagnosis

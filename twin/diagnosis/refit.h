@@ -1,0 +1,81 @@
+#pragma once
+// Refitting a candidate effect: identify_gradient over the candidate's parameters on the
+// training trials (start: the base fit with the effect absent), its 95 % intervals
+// (estimate_uncertainty), and its scores on the training and held-out (test) trials.
+//
+// Information criterion: BIC with the noise sigma known,
+//   BIC = S / sigma^2 + k ln n
+// with S the training sum of squared marker residuals (m^2), n their count and k the number of
+// fitted parameters. Known sigma makes the first term the chi-square of the fit, so
+// differences of BIC between models are comparable; k ln n charges ln n (about 8-9 for a few
+// thousand residuals) per added parameter, stricter than AIC's 2.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "twin/diagnosis/effect_library.h"
+#include "twin/diagnosis/residual_field.h"
+#include "twin/identification.h"
+
+namespace twin::diagnosis {
+
+struct StageScore {
+  std::string trial, stage;
+  double correspondence_mean_m = 0.0;  // NaN for a cloud stage
+  double nearest_mean_m = 0.0;         // Algorithm 1
+};
+
+// A material scored on a set of trials (no fitting).
+struct SetScore {
+  std::string failure;  // empty when every trial simulated
+  bool usable() const { return failure.empty(); }
+  std::vector<StageScore> stages;
+  double mean_correspondence_m = 0.0;  // mean over marker stages of their correspondence mean
+  double sum_squares_m2 = 0.0;         // least-squares misfit (trial_evaluator.h), summed
+  int residual_count = 0;
+  double rms_m() const;                // per coordinate
+};
+
+// Simulates every trial with `material` (warm starts dropped first: earlier evaluations may
+// have varied other parameter lists) and scores it; appends the residuals to `field` when given.
+SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field = nullptr);
+
+double bic(double sum_squares_m2, int residual_count, int parameter_count, double sigma_m);
+
+struct RefitOptions {
+  int max_evaluations = 60;  // per start
+};
+
+// Where a refit starts. A hanging sheet's misfit has several local minima (equilibria change
+// branch as the material changes), so one start is not enough: the base fit with the effect
+// absent; the Gauss-Newton one-step estimate of the score test (`step`, in the search
+// coordinates of effect.score_parameters), once and three times as long (a quartic or
+// strongly nonlinear effect is underestimated by the linearisation), each coordinate's move
+// limited to a factor 8 or 8 scale units; for effects with signed parameters (rest
+// curvature) also its mirror with the effect part negated; and for orthotropic stiffness warp/weft bending
+// ratios of 1/2 and 2 around the base rigidity (the isotropic fit lands between the two
+// directions, and the ratio's sign is what the data's branches disagree about).
+std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
+                                   const Eigen::VectorXd& step);
+
+struct Refit {
+  std::string effect;
+  std::string failure;                        // empty when the refit produced a material
+  bool usable() const { return failure.empty(); }
+  IdentificationResult result;                // material, estimates with 95 % intervals
+  std::vector<ParameterEstimate> effect_estimates;  // the added parameters only
+  SetScore train, test;
+  ResidualField train_field, test_field;      // residuals with the refit material
+  double information_criterion = 0.0;         // BIC above, on the training trials
+};
+
+// identify_gradient from every start of refit_starts(); the best fit (lowest training misfit)
+// is kept, with its intervals and scores.
+Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
+                      const Eigen::VectorXd& score_step, double sigma_m,
+                      const RefitOptions& options, const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace twin::diagnosis

@@ -1,0 +1,116 @@
+#include "twin/diagnosis/verdict.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "twin/diagnosis/chi_square.h"
+
+namespace twin::diagnosis {
+
+ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m) {
+  ResidualTest t;
+  if (set.residual_count == 0) return t;
+  t.chi_square = set.sum_squares_m2 / (sigma_m * sigma_m);
+  t.dof = std::max(1, set.residual_count - fitted_parameters);
+  t.p_value = chi_square_upper_tail(t.chi_square, t.dof);
+  t.rms_ratio = std::sqrt(t.chi_square / t.dof);
+  t.significant = t.p_value < kResidualAlpha && t.rms_ratio > kNoiseTolerance;
+  return t;
+}
+
+namespace {
+
+const CandidateScore* score_of(const std::vector<CandidateScore>& scores, const std::string& effect) {
+  for (const CandidateScore& s : scores) {
+    if (s.effect == effect) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
+               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m) {
+  Verdict v;
+  const ResidualTest train = residual_test(base_train, 3, sigma_m);
+  const ResidualTest test = residual_test(base_test, 0, sigma_m);
+  auto describe = [](const char* set, const ResidualTest& t) {
+    return fmt::format("{} residual of the base fit: RMS {:.2f} x sigma, chi-square {:.0f} on {:.0f} dof, p = {:.2g}{}",
+                       set, t.rms_ratio, t.chi_square, t.dof, t.p_value, t.significant ? " (significant)" : "");
+  };
+  v.reasons.push_back(describe("training", train));
+  if (base_test.residual_count > 0) v.reasons.push_back(describe("held-out", test));
+  if (!train.significant && !test.significant) {
+    v.verdict = "none";
+    v.summary = fmt::format("no missing effect supported: the base fit's residual is within the noise floor "
+                            "(RMS {:.2f} / {:.2f} x sigma, train / held-out)",
+                            train.rms_ratio, test.rms_ratio);
+    return v;
+  }
+
+  int tested = 0;
+  for (const CandidateScore& s : scores) tested += s.skipped.empty() ? 1 : 0;
+  const double alpha = kScoreAlpha / std::max(tested, 1);
+  const Refit* best = nullptr;
+  const Refit* closest = nullptr;
+  for (const Refit& r : refits) {
+    if (!r.usable()) {
+      v.reasons.push_back(fmt::format("{}: refit failed ({})", r.effect, r.failure));
+      continue;
+    }
+    if (!closest || r.test.sum_squares_m2 < closest->test.sum_squares_m2) closest = &r;
+    const CandidateScore* s = score_of(scores, r.effect);
+    const bool score_ok = s && s->skipped.empty() && s->score.p_value < alpha;
+    const bool bic_ok = r.information_criterion < base_bic;
+    const bool held_out_ok = !(r.test.mean_correspondence_m >= base_test.mean_correspondence_m);
+    v.reasons.push_back(fmt::format(
+        "{}: score p = {:.2g} (needs < {:.2g}), BIC {:+.1f} vs base, held-out mean {:.3f} -> {:.3f} mm{}", r.effect,
+        s ? s->score.p_value : 1.0, alpha, r.information_criterion - base_bic, 1e3 * base_test.mean_correspondence_m,
+        1e3 * r.test.mean_correspondence_m, score_ok && bic_ok && held_out_ok ? " (qualifies)" : ""));
+    if (score_ok && bic_ok && held_out_ok && (!best || r.test.sum_squares_m2 < best->test.sum_squares_m2)) best = &r;
+  }
+
+  if (best) {
+    const ResidualTest after_train = residual_test(best->train, static_cast<int>(best->result.estimates.size()), sigma_m);
+    const ResidualTest after_test = residual_test(best->test, 0, sigma_m);
+    const bool explained = after_train.rms_ratio <= kExplainedTolerance &&
+                           (best->test.residual_count == 0 || after_test.rms_ratio <= kExplainedTolerance);
+    v.reasons.push_back(fmt::format("with {}: residual RMS {:.2f} / {:.2f} x sigma (train / held-out; accepted up to {:.2f})",
+                                    best->effect, after_train.rms_ratio, after_test.rms_ratio, kExplainedTolerance));
+    v.chosen = best;
+    if (explained) {
+      v.verdict = "effect";
+      v.effect = best->effect;
+      v.summary = fmt::format("missing effect: {} (held-out mean error {:.3f} -> {:.3f} mm)", best->effect,
+                              1e3 * base_test.mean_correspondence_m, 1e3 * best->test.mean_correspondence_m);
+      return v;
+    }
+    closest = best;
+  }
+  v.verdict = "unexplained";
+  if (closest) {
+    v.closest = closest->effect;
+    v.chosen = closest;
+    const CandidateScore* s = score_of(scores, closest->effect);
+    v.summary = fmt::format("unexplained: the residual is significant; the closest candidate, {}, explains {:.0f} % of it "
+                            "and leaves held-out RMS {:.2f} x sigma",
+                            closest->effect, 100.0 * (s ? s->score.explained_fraction : 0.0),
+                            residual_test(closest->test, 0, sigma_m).rms_ratio);
+  } else {
+    // No refit: the candidate whose span took the largest share of the residual.
+    const CandidateScore* top = nullptr;
+    for (const CandidateScore& s : scores) {
+      if (s.skipped.empty() && (!top || s.score.explained_fraction > top->score.explained_fraction)) top = &s;
+    }
+    if (top) v.closest = top->effect;
+    v.summary = top ? fmt::format("unexplained: the residual is significant and no candidate's score test is; the "
+                                  "closest, {}, explains {:.0f} % of it",
+                                  top->effect, 100.0 * top->score.explained_fraction)
+                    : "unexplained: the residual is significant and no candidate could be tested";
+  }
+  return v;
+}
+
+}  // namespace twin::diagnosis

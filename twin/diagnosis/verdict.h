@@ -1,0 +1,52 @@
+#pragma once
+// The decision of `twin diagnose`, with its thresholds:
+//
+// 1. Is there anything to explain? The base fit's residual is compared with the noise floor on
+//    the training and on the held-out trials: chi-square S / sigma^2 with n (held-out) or
+//    n - 3 (training) degrees of freedom. It is significant when p < kResidualAlpha AND its RMS
+//    per coordinate exceeds sigma by more than kNoiseTolerance (an estimated sigma is itself
+//    uncertain by a few per cent, and a few thousand residuals make the chi-square test see
+//    that alone). Neither set significant -> "none" (no missing effect supported).
+// 2. Which candidate? A candidate qualifies when its score test is significant at
+//    kScoreAlpha / (candidates tested) (Bonferroni) and its refit lowers the BIC below the
+//    base fit's and lowers the held-out mean correspondence error. Of the qualifying ones the
+//    one with the lowest held-out sum of squares wins. (diagnose.cc refits only candidates
+//    significant in the score test; with none, the closest is the one explaining the most.)
+// 3. Does it explain the discrepancy? The winner's training and held-out residual RMS must be
+//    within kExplainedTolerance of sigma (chi-square no longer grossly significant). Then
+//    "effect"; otherwise, or when no candidate qualifies, "unexplained", naming the closest
+//    candidate and how much of the residual it took.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "twin/diagnosis/refit.h"
+#include "twin/diagnosis/score_test.h"
+
+namespace twin::diagnosis {
+
+inline constexpr double kResidualAlpha = 1e-3;
+inline constexpr double kNoiseTolerance = 1.05;     // residual RMS / sigma above which it is "more than noise"
+inline constexpr double kScoreAlpha = 1e-3;         // family-wise, over the candidates tested
+inline constexpr double kExplainedTolerance = 1.2;  // residual RMS / sigma left by an accepted effect
+
+struct ResidualTest {
+  double chi_square = 0.0, dof = 0.0, p_value = 1.0, rms_ratio = 0.0;  // rms_ratio: RMS / sigma
+  bool significant = false;
+};
+ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m);
+
+struct Verdict {
+  std::string verdict;                 // "effect" | "none" | "unexplained"
+  std::optional<std::string> effect;   // named effect ("effect" only)
+  std::optional<std::string> closest;  // best candidate when "unexplained"
+  std::string summary;                 // one line
+  std::vector<std::string> reasons;    // the evidence, one sentence each
+  const Refit* chosen = nullptr;       // refit of the named effect (or of the closest one)
+};
+
+Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
+               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m);
+
+}  // namespace twin::diagnosis

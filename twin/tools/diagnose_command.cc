@@ -1,0 +1,46 @@
+#include "diagnose_command.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+namespace twin_cli {
+
+CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
+  twin::diagnosis::DiagnoseOptions& o = a.options;
+  CLI::App* cmd = app.add_subcommand("diagnose", "find a missing effect of the twin, name it, add it, report");
+  cmd->add_option("--train", o.train, "training trial directories (fitted)")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--test", o.test, "held-out trial directories (scored, not fitted)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--report", o.report, "output directory: verdict.json, report.md, material_augmented.json")
+      ->required();
+  cmd->add_option("--material", o.material, "material file with start values and the fixed properties")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--triangles", o.triangles, "triangles of the twin's sheet mesh (default 300)")->check(CLI::Range(50, 200000));
+  cmd->add_option("--noise-mm", o.noise_mm, "measurement noise per coordinate, mm (default: estimated)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");
+  cmd->add_option("--refits", o.refits, "candidates refitted, best score first")->check(CLI::Range(1, 10));
+  cmd->add_flag("--quiet", a.quiet, "no progress lines");
+  return cmd;
+}
+
+int run_diagnose(DiagnoseArguments& a) {
+  if (!a.quiet) {
+    a.options.progress = [](const std::string& line) {
+      fmt::print("{}\n", line);
+      std::fflush(stdout);
+    };
+  }
+  const twin::diagnosis::DiagnoseOutcome outcome = twin::diagnosis::run_diagnosis(a.options);
+  fmt::print("\n{}", outcome.summary_text);
+  if (!outcome.summary_text.empty() && outcome.summary_text.back() != '\n') fmt::print("\n");
+  const std::filesystem::path dir(a.options.report);
+  fmt::print("wrote {}, {}{}\n", (dir / "verdict.json").string(), (dir / "report.md").string(),
+             outcome.verdict.verdict == "effect" ? ", " + (dir / "material_augmented.json").string() : "");
+  return 0;
+}
+
+}  // namespace twin_cli

@@ -1,0 +1,21 @@
+#pragma once
+// `twin diagnose`: where twin and measurement disagree, which missing effect explains it, the
+// augmented material file and the report (README "Diagnosis"; twin/diagnosis/diagnose.h).
+
+#include <CLI/CLI.hpp>
+
+#include "twin/diagnosis/diagnose.h"
+
+namespace twin_cli {
+
+struct DiagnoseArguments {
+  twin::diagnosis::DiagnoseOptions options;
+  bool quiet = false;
+};
+
+CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& arguments);
+
+// Exit status 0 whatever the verdict; bad input throws (main prints it and exits 1).
+int run_diagnose(DiagnoseArguments& arguments);
+
+}  // namespace twin_cli
