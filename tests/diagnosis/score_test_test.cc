@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "twin/diagnosis/effect_library.h"
@@ -173,14 +174,20 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   CHECK(*named.effect == "orthotropic_stiffness");
 
   // The same refit leaving half the discrepancy: significant, but not explained.
-  refits[0].train = set_with(0.45e-3, n, 0.75e-3);
-  refits[0].test = set_with(0.46e-3, n, 0.77e-3);
+  refits[0].train = set_with(0.5e-3, n, 0.8e-3);
+  refits[0].test = set_with(0.5e-3, n, 0.8e-3);
   refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
   const dx::Verdict unexplained = dx::decide(train, test, base_bic, scores, refits, sigma);
   CHECK(unexplained.verdict == "unexplained");
   CHECK_FALSE(unexplained.effect);
   REQUIRE(unexplained.closest);
   CHECK(*unexplained.closest == "orthotropic_stiffness");
+
+  // Training at the noise, but the held-out trial still twice the noise floor: not explained.
+  refits[0].train = set_with(1.02 * sigma, n, 0.5e-3);
+  refits[0].test = set_with(0.7e-3, n, 2.0 * sigma * std::sqrt(8.0 / std::numbers::pi));
+  refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
+  CHECK(dx::decide(train, test, base_bic, scores, refits, sigma).verdict == "unexplained");
 
   // Significant, but no refit (no score test significant): unexplained, naming the candidate
   // whose span took most of the residual.
