@@ -184,7 +184,7 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   CHECK(*unexplained.closest == "orthotropic_stiffness");
 
   // Training at the noise, but the held-out trial still twice the noise floor: not explained.
-  refits[0].train = set_with(1.02 * sigma, n, 0.5e-3);
+  refits[0].train = set_with(1.02 * sigma, n, 0.48e-3);
   refits[0].test = set_with(0.7e-3, n, 2.0 * sigma * std::sqrt(8.0 / std::numbers::pi));
   refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
   CHECK(dx::decide(train, test, base_bic, scores, refits, sigma).verdict == "unexplained");

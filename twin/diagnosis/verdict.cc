@@ -77,14 +77,14 @@ Verdict decide(const SetScore& base_train, const SetScore& base_test, double bas
     const ResidualTest after_train = residual_test(best->train, static_cast<int>(best->result.estimates.size()), sigma_m);
     const ResidualTest after_test = residual_test(best->test, 0, sigma_m);
     const double floor_m = sigma_m * std::sqrt(8.0 / std::numbers::pi);
-    const double floor_ratio = best->test.mean_correspondence_m / floor_m;
-    const bool explained = after_train.rms_ratio <= kExplainedTolerance &&
-                           (best->test.residual_count == 0 || floor_ratio <= kHeldOutFloorRatio);
+    const double train_ratio = best->train.mean_correspondence_m / floor_m;
+    const double test_ratio = best->test.mean_correspondence_m / floor_m;
+    const bool explained =
+        train_ratio <= kFloorRatio && (best->test.residual_count == 0 || test_ratio <= kFloorRatio);
     v.reasons.push_back(fmt::format(
-        "with {}: training residual RMS {:.2f} x sigma (accepted up to {:.2f}), held-out mean error {:.2f} x the "
-        "noise floor (accepted up to {:.2f}; held-out RMS {:.2f} x sigma)",
-        best->effect, after_train.rms_ratio, kExplainedTolerance, floor_ratio, kHeldOutFloorRatio,
-        after_test.rms_ratio));
+        "with {}: mean marker error {:.2f} / {:.2f} x the noise floor (train / held-out; accepted up to {:.2f}); "
+        "residual RMS {:.2f} / {:.2f} x sigma",
+        best->effect, train_ratio, test_ratio, kFloorRatio, after_train.rms_ratio, after_test.rms_ratio));
     v.chosen = best;
     if (explained) {
       v.verdict = "effect";

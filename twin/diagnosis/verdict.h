@@ -12,12 +12,12 @@
 //    base fit's and lowers the held-out mean correspondence error. Of the qualifying ones the
 //    one with the lowest held-out sum of squares wins. (diagnose.cc refits only candidates
 //    significant in the score test; with none, the closest is the one explaining the most.)
-// 3. Does it explain the discrepancy? The winner must leave the held-out mean marker error
-//    within kHeldOutFloorRatio of the noise floor (sigma sqrt(8/pi), the mean error noise alone
-//    leaves: the acceptance the issue sets for a named effect) and the training residual RMS
-//    within kExplainedTolerance of sigma. The held-out test is on the mean, not the RMS: a
-//    held-out trial is simulated afresh, and a few markers on a neighbouring equilibrium (a
-//    corner folded the other way) dominate an RMS while the rest of the sheet fits. Then
+// 3. Does it explain the discrepancy? The winner must leave the mean marker error within
+//    kFloorRatio of the noise floor (sigma sqrt(8/pi), the mean error noise alone leaves: the
+//    acceptance the issue sets for a named effect) on the training AND the held-out trials.
+//    The test is on the mean, not the RMS: a few markers on a neighbouring equilibrium (a
+//    corner folded the other way in one trial's simulation) dominate an RMS while the rest of
+//    the sheet fits. Then
 //    "effect"; otherwise, or when no candidate qualifies, "unexplained", naming the closest
 //    candidate and how much of the residual it took.
 
@@ -33,8 +33,7 @@ namespace twin::diagnosis {
 inline constexpr double kResidualAlpha = 1e-3;
 inline constexpr double kNoiseTolerance = 1.05;     // residual RMS / sigma above which it is "more than noise"
 inline constexpr double kScoreAlpha = 1e-3;         // family-wise, over the candidates tested
-inline constexpr double kExplainedTolerance = 1.5;  // training residual RMS / sigma left by an accepted effect
-inline constexpr double kHeldOutFloorRatio = 1.5;   // held-out mean error / noise floor left by it
+inline constexpr double kFloorRatio = 1.5;  // mean marker error / noise floor left by an accepted effect
 
 struct ResidualTest {
   double chi_square = 0.0, dof = 0.0, p_value = 1.0, rms_ratio = 0.0;  // rms_ratio: RMS / sigma
