@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "twin/stage_age.h"
+
 namespace twin::diagnosis {
 
 double SetScore::rms_m() const { return residual_count > 0 ? std::sqrt(sum_squares_m2 / residual_count) : NAN; }
@@ -43,8 +45,20 @@ double bic(double sum_squares_m2, int residual_count, int parameter_count, doubl
   return sum_squares_m2 / (sigma_m * sigma_m) + parameter_count * std::log(std::max(residual_count, 1));
 }
 
+std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& trials) {
+  std::vector<double> ages;
+  for (const TrialEvaluator* t : trials) {
+    const std::vector<TrialStage>& stages = t->trial().stages;
+    const std::vector<double> all = stage_load_ages_s(stages);
+    for (std::size_t s = 0; s < stages.size(); ++s) {
+      if (stages[s].observed.has_markers() && std::isfinite(all[s])) ages.push_back(all[s]);
+    }
+  }
+  return ages;
+}
+
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
-                                   const Eigen::VectorXd& step) {
+                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s) {
   std::vector<Material> starts{null_material(effect, base_fit)};
   const std::vector<MaterialParameter>& p = effect.score_parameters;
   // The one-step estimate, and for effects with signed parameters also its mirror: curvature
@@ -72,6 +86,20 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
     }
     starts.push_back(m);
   }
+  const bool fits_tau = std::find(effect.refit_parameters.begin(), effect.refit_parameters.end(),
+                                  MaterialParameter::kRelaxationTime) != effect.refit_parameters.end();
+  if (fits_tau && !stage_ages_s.empty()) {
+    const auto [youngest, oldest] = std::minmax_element(stage_ages_s.begin(), stage_ages_s.end());
+    const double first = std::max(*youngest, 1.0), last = std::max(*oldest, first);
+    // The one-step fraction (the score test assumed the default tau), or the null start's.
+    const double fraction = std::clamp(starts.size() > 1 ? starts[1].effects.relaxation_fraction : 0.3, 0.1, 0.6);
+    for (double position : {1.0 / 6.0, 0.5, 5.0 / 6.0}) {
+      Material m = starts.size() > 1 ? starts[1] : starts.front();
+      m.effects.relaxation_fraction = fraction;
+      m.effects.relaxation_time_s = first * std::pow(last / first, position);
+      starts.push_back(m);
+    }
+  }
   if (effect.name == "orthotropic_stiffness") {
     for (double ratio : {0.5, 2.0}) {
       Material m = starts.front();
@@ -90,7 +118,7 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
                       const std::function<void(const std::string&)>& progress) {
   Refit r;
   r.effect = effect.name;
-  const std::vector<Material> starts = refit_starts(effect, base_fit, score_step);
+  const std::vector<Material> starts = refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training));
   IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {

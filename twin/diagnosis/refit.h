@@ -56,9 +56,17 @@ struct RefitOptions {
 // limited to a factor 8 or 8 scale units; for effects with signed parameters (rest
 // curvature) also its mirror with the effect part negated; and for orthotropic stiffness warp/weft bending
 // ratios of 1/2 and 2 around the base rigidity (the isotropic fit lands between the two
-// directions, and the ratio's sign is what the data's branches disagree about).
+// directions, and the ratio's sign is what the data's branches disagree about). For
+// relaxation the score test cannot see tau (no sensitivity while the fraction is zero), and
+// the misfit has a minimum for each tau that trades against the fraction: three more starts
+// put tau at 1/6, 1/2 and 5/6 of the way (logarithmically) from the youngest to the oldest
+// stage age of the training trials (`stage_ages_s`, finite values only), the fraction at the
+// one-step estimate kept within [0.1, 0.6].
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
-                                   const Eigen::VectorXd& step);
+                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {});
+
+// The finite load ages (s) of the trials' marker stages.
+std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& trials);
 
 struct Refit {
   std::string effect;

@@ -1,0 +1,58 @@
+// Where refits start (twin/diagnosis/refit.h): no simulation.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "twin/diagnosis/effect_library.h"
+#include "twin/diagnosis/refit.h"
+
+namespace {
+
+namespace dx = twin::diagnosis;
+
+twin::Material base_fit() {
+  twin::Material m;
+  m.tensile_stiffness_u_N_m = m.tensile_stiffness_v_N_m = 6000.0;
+  m.shear_stiffness_N_m = 2500.0;
+  m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 8e-4;
+  return m;
+}
+
+std::vector<double> taus_of(const std::vector<twin::Material>& starts) {
+  std::vector<double> t;
+  for (const twin::Material& m : starts) t.push_back(m.effects.relaxation_time_s);
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("relaxation refits start with tau spread over the stages' ages", "[diagnosis][refit]") {
+  const dx::CandidateEffect& relax = dx::find_effect("viscoelastic_relaxation");
+  // A one-step estimate in the score parameters' coordinates: base three, then the fraction.
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(4);
+  step(3) = 0.9;  // fraction 0.09 (scale 0.1 per coordinate unit)
+
+  const std::vector<double> ages = {20.0, 45.0, 300.0, 900.0};
+  const std::vector<twin::Material> starts = dx::refit_starts(relax, base_fit(), step, ages);
+  // Null, one step, three steps, and three taus.
+  REQUIRE(starts.size() == 6);
+  CHECK(starts[0].effects.relaxation_fraction == 0.0);
+  CHECK(starts[1].effects.relaxation_fraction == Approx(0.09));
+  const std::vector<double> taus = taus_of(starts);
+  const double ratio = 900.0 / 20.0;
+  CHECK(taus[3] == Approx(20.0 * std::pow(ratio, 1.0 / 6.0)));
+  CHECK(taus[4] == Approx(20.0 * std::pow(ratio, 0.5)));
+  CHECK(taus[5] == Approx(20.0 * std::pow(ratio, 5.0 / 6.0)));
+  for (std::size_t k = 3; k < starts.size(); ++k) {
+    // The one-step fraction, raised to at least 0.1 so that tau has a gradient to follow.
+    CHECK(starts[k].effects.relaxation_fraction == Approx(0.1));
+    CHECK(starts[k].tensile_stiffness_u_N_m == starts[1].tensile_stiffness_u_N_m);
+  }
+
+  // Without known ages, or for a candidate without tau, no tau starts.
+  CHECK(dx::refit_starts(relax, base_fit(), step).size() == 3);
+  Eigen::VectorXd mass_step = Eigen::VectorXd::Zero(4);
+  mass_step(3) = 1.0;
+  CHECK(dx::refit_starts(dx::find_effect("marker_mass"), base_fit(), mass_step, ages).size() == 3);
+}
