@@ -6,7 +6,8 @@
 # Usage: bash scripts/blind_accuracy.sh [SETS_PER_EFFECT (default 3)] [OUT (default out/blind_accuracy)]
 # Environment: EFFECTS (comma list, default all seven), TRIANGLES (default 300: reference sheet
 # and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
-# FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
+# FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), JOBS (sets run at once, default 1; 2 on a
+# quiet two-core machine), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
 #
 # Resumable: a set whose truth exists is not generated again, a set with a verdict.json is not
 # diagnosed again; a step that failed left an error file and is retried on the next run. Delete
@@ -18,6 +19,7 @@ out="${2:-out/blind_accuracy}"
 build="${BUILD:-build}"
 triangles="${TRIANGLES:-300}"
 first_seed="${FIRST_SEED:-1}"
+jobs="${JOBS:-1}"
 effects="${EFFECTS:-none,orthotropic_stiffness,rest_curvature,nonlinear_bending,marker_mass,viscoelastic_relaxation,outside_library}"
 lab="${SCANNER_LAB:-$build/sim_hw/scanner_lab}"
 twin="${TWIN:-$build/twin/twin}"
@@ -63,23 +65,36 @@ run_set() {
   rm -f "$dir/error.txt"
 }
 
-# Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
-results="$out/results.tsv"
-printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\n' > "$results"
 IFS=',' read -r -a effect_list <<< "$effects"
+# Distinct seeds per effect, so protocols and noise differ between effects too.
+seed_of() { echo $((first_seed + 1000 * $1 + $2)); }
+
+# Run the sets, JOBS at a time.
 index=0
 for effect in "${effect_list[@]}"; do
   index=$((index + 1))
   for ((k = 0; k < sets; k++)); do
-    # Distinct seeds per effect, so protocols and noise differ between effects too.
-    seed=$((first_seed + 1000 * index + k))
-    dir="$out/${effect}_$seed"
+    seed=$(seed_of "$index" "$k")
     echo "blind_accuracy: $effect seed $seed ..." >&2
-    run_set "$effect" "$seed" "$dir"
+    run_set "$effect" "$seed" "$out/${effect}_$seed" &
+    while (($(jobs -rp | wc -l) >= jobs)); do wait -n; done
+  done
+done
+wait
+
+# Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
+results="$out/results.tsv"
+printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\n' > "$results"
+index=0
+for effect in "${effect_list[@]}"; do
+  index=$((index + 1))
+  for ((k = 0; k < sets; k++)); do
+    seed=$(seed_of "$index" "$k")
+    dir="$out/${effect}_$seed"
     gen_s=$(cat "$dir/seconds_generate.txt" 2>/dev/null || echo nan)
     diag_s=$(cat "$dir/seconds_diagnose.txt" 2>/dev/null || echo nan)
     if [ -f "$dir/error.txt" ] || [ ! -f "$dir/report/verdict.json" ]; then
-      echo "blind_accuracy:   $(cat "$dir/error.txt" 2>/dev/null)" >&2
+      echo "blind_accuracy: $effect seed $seed: $(cat "$dir/error.txt" 2>/dev/null)" >&2
       printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
       continue
     fi
@@ -96,7 +111,7 @@ for effect in "${effect_list[@]}"; do
        elif ($a != null and $b != null and $f != null and $a <= 0.5 * $b and $a <= 1.5 * $f) then "yes" else "no" end) as $meets |
       [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift]
       | map(tostring) | join("\t")' "$dir/report/verdict.json" >> "$results"
-    echo "blind_accuracy:   $(tail -1 "$results" | cut -f3-9)" >&2
+    echo "blind_accuracy: $effect seed $seed: $(tail -1 "$results" | cut -f3-9)" >&2
   done
 done
 
