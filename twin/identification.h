@@ -102,6 +102,11 @@ struct IsresOptions {
 // {kTensile, kShear, kBending} (std::invalid_argument otherwise).
 std::vector<VecX> paper_screening_candidates(const IdentificationProblem& problem);
 
+// The default start of an identification when the user gives no material: the paper's middle
+// screening candidate (5000 N/m, 5000 N/m, 0.001 N*m) with Poisson 0.3 and the trial's
+// thickness and material name.
+Material paper_middle_candidate(const Trial& trial);
+
 IdentificationResult identify_isres(IdentificationProblem& problem, const IsresOptions& options);
 
 // --- gradients ----------------------------------------------------------------------------

@@ -37,6 +37,17 @@ std::vector<VecX> paper_screening_candidates(const IdentificationProblem& proble
   return candidates;
 }
 
+Material paper_middle_candidate(const Trial& trial) {
+  Material m;
+  m.tensile_stiffness_u_N_m = m.tensile_stiffness_v_N_m = 5000.0;
+  m.shear_stiffness_N_m = 5000.0;
+  m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 1e-3;
+  m.poisson_ratio = 0.3;
+  m.thickness_m = trial.thickness_m;
+  m.name = trial.material_name;
+  return m;
+}
+
 IdentificationResult identify_isres(IdentificationProblem& problem, const IsresOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const int simulations_before = problem.simulations();

@@ -19,17 +19,7 @@ namespace {
 // candidate (5000 N/m, 5000 N/m, 0.001 N*m, Poisson 0.3) like `twin identify`; thickness from
 // the trial.
 Material start_material(const DiagnoseOptions& o, const Trial& first) {
-  Material m;
-  if (!o.material.empty()) {
-    m = read_material_file(o.material);
-  } else {
-    m.tensile_stiffness_u_N_m = m.tensile_stiffness_v_N_m = 5000.0;
-    m.shear_stiffness_N_m = 5000.0;
-    m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 1e-3;
-    m.poisson_ratio = 0.3;
-    m.thickness_m = first.thickness_m;
-    m.name = first.material_name;
-  }
+  Material m = o.material.empty() ? paper_middle_candidate(first) : read_material_file(o.material);
   // The base fit is isotropic: a start with different warp and weft takes the weft values.
   m.tensile_stiffness_v_N_m = m.tensile_stiffness_u_N_m;
   m.bending_rigidity_v_Nm = m.bending_rigidity_u_Nm;

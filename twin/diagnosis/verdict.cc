@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "twin/diagnosis/chi_square.h"
+#include "twin/diagnosis/residual_analysis.h"
 
 namespace twin::diagnosis {
 
@@ -79,12 +80,22 @@ Verdict decide(const SetScore& base_train, const SetScore& base_test, double bas
     const double floor_m = sigma_m * std::sqrt(8.0 / std::numbers::pi);
     const double train_ratio = best->train.mean_correspondence_m / floor_m;
     const double test_ratio = best->test.mean_correspondence_m / floor_m;
-    const bool explained =
-        train_ratio <= kFloorRatio && (best->test.residual_count == 0 || test_ratio <= kFloorRatio);
+    // Training stages the refit leaves significant (a refit without its residual field, as in
+    // unit tests of this rule alone, counts as none).
+    int stages = 0, significant_stages = 0;
+    if (!best->train_field.stages.empty()) {
+      const ResidualAnalysis after = analyse_residuals(best->train_field, sigma_m);
+      stages = static_cast<int>(after.stages.size());
+      significant_stages = after.significant_stage_count();
+    }
+    const bool stages_ok = significant_stages <= kMaxSignificantStageFraction * stages;
+    const bool explained = stages_ok && train_ratio <= kFloorRatio &&
+                           (best->test.residual_count == 0 || test_ratio <= kFloorRatio);
     v.reasons.push_back(fmt::format(
         "with {}: mean marker error {:.2f} / {:.2f} x the noise floor (train / held-out; accepted up to {:.2f}); "
-        "residual RMS {:.2f} / {:.2f} x sigma",
-        best->effect, train_ratio, test_ratio, kFloorRatio, after_train.rms_ratio, after_test.rms_ratio));
+        "{} of {} training stages still significant (accepted up to {:.0f} %); residual RMS {:.2f} / {:.2f} x sigma",
+        best->effect, train_ratio, test_ratio, kFloorRatio, significant_stages, stages,
+        100.0 * kMaxSignificantStageFraction, after_train.rms_ratio, after_test.rms_ratio));
     v.chosen = best;
     if (explained) {
       v.verdict = "effect";

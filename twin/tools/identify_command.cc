@@ -29,15 +29,7 @@ std::vector<MaterialParameter> parse_parameter_list(const std::string& list) {
 // Start values and the properties that are not identified: the --start file, or the paper's
 // middle candidate (5000 N/m, 5000 N/m, 0.001 N*m) with Poisson 0.3 and the trial's thickness.
 Material base_material(const IdentifyArguments& a, const Trial& first) {
-  Material m;
-  if (!a.start.empty()) {
-    m = read_material_file(a.start);
-  } else {
-    m.tensile_stiffness_u_N_m = m.tensile_stiffness_v_N_m = 5000.0;
-    m.shear_stiffness_N_m = 5000.0;
-    m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 1e-3;
-    m.poisson_ratio = 0.3;
-  }
+  Material m = a.start.empty() ? paper_middle_candidate(first) : read_material_file(a.start);
   m.thickness_m = first.thickness_m;
   m.name = first.material_name + " (identified)";
   return m;
