@@ -91,7 +91,7 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
   if (fits_tau && !stage_ages_s.empty()) {
     const auto [youngest, oldest] = std::minmax_element(stage_ages_s.begin(), stage_ages_s.end());
     const double first = std::max(*youngest, 1.0), last = std::max(*oldest, first);
-    // The one-step fraction (the score test assumed the default tau), or the null start's.
+    // The one-step fraction (the score test assumed the default tau), or 0.3 without a step.
     const double fraction = std::clamp(starts.size() > 1 ? starts[1].effects.relaxation_fraction : 0.3, 0.1, 0.6);
     for (double position : {1.0 / 6.0, 0.5, 5.0 / 6.0}) {
       Material m = starts.size() > 1 ? starts[1] : starts.front();
