@@ -15,6 +15,7 @@ CellTwin::CellTwin(const twin::SheetMesh& mesh, const twin::Material& material,
   v_ = twin::VecX::Zero(x_.size());
   // The jaws close on the flat ply, so each clamp holds its patch turned as the ply lies.
   for (auto& p : poses_) p.rotation = placement.rotation;
+  model_->set_clamp_grips(clamps_);  // the material may widen the jaws (model_effects.h)
   statics_ = std::make_unique<twin::StaticSolver>(*model_);
   stepper_ = std::make_unique<twin::ImplicitStepper>(*model_);
 }

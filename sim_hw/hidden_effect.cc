@@ -94,7 +94,7 @@ void nonlinear_bending(HiddenEffect& h, Draws& d, double typical_curvature_1_m) 
 const std::vector<std::string>& blind_effect_names() {
   static const std::vector<std::string> names = {"none",           "orthotropic_stiffness",   "rest_curvature",
                                                  "nonlinear_bending", "marker_mass", "viscoelastic_relaxation",
-                                                 "outside_library"};
+                                                 "clamp_grip",        "outside_library"};
   return names;
 }
 
@@ -106,7 +106,7 @@ std::uint64_t derived_seed(std::uint64_t seed, std::uint64_t stream) {
 
 std::string effect_for_seed(std::uint64_t seed) {
   const auto& names = blind_effect_names();
-  // 53 random bits to one of 7: the bias is far below anything a few hundred seeds could show.
+  // 53 random bits to one of 8: the bias is far below anything a few hundred seeds could show.
   Draws d(derived_seed(seed, kChoiceStream));
   const auto index = static_cast<std::size_t>(d.uniform(0.0, static_cast<double>(names.size())));
   return names[std::min(index, names.size() - 1)];
@@ -142,6 +142,11 @@ HiddenEffect draw_hidden_effect(std::uint64_t seed, const std::string& effect, c
     h.parameters = {{"relaxation_fraction", e.relaxation_fraction}, {"relaxation_time_s", e.relaxation_time_s}};
     h.description = fmt::format("stiffness relaxes by {:.0f} % with tau = {:.0f} s after each clamp move",
                                 100.0 * e.relaxation_fraction, e.relaxation_time_s);
+  } else if (effect == "clamp_grip") {
+    h.extra_grip_radius_m = d.uniform(0.05, 0.12);
+    h.parameters = {{"extra_grip_radius_m", h.extra_grip_radius_m}};
+    h.description = fmt::format("the clamps' jaws grip {:.0f} mm further out than the trial files say",
+                                h.extra_grip_radius_m * 1e3);
   } else {  // outside_library
     // Folded in four for storage: the two folds cross at right angles, at a random turn.
     const twin::Vec2 point(d.uniform(0.35, 0.65) * specimen.width_m, d.uniform(0.35, 0.65) * specimen.height_m);

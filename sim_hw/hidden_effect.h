@@ -12,6 +12,11 @@
 //   nonlinear_bending        beta with beta kappa^2 = 0.5-3 at the trial's typical curvature
 //   marker_mass              0.5-2 g per marker (quarter-inch raised markers)
 //   viscoelastic_relaxation  fraction 0.3-0.6, time constant 60-600 s
+//   clamp_grip               the jaws grip a patch 5-12 cm wider (in radius) than the trial
+//                            file's grip radius says: the reference sheet is held rigidly out to
+//                            the wider radius (a different representation from the twin's
+//                            clamp_grip_term.h springs), and the wider jaws hide the markers
+//                            they cover
 //   outside_library          the ply was folded in four once: two perpendicular creases
 //                            (sim_hw/crease.h) through a point near the middle, 40-80 deg each
 // The ranges are the lab's idea of realistic, not the analysis's: diagnose must not rely on them.
@@ -28,7 +33,7 @@
 
 namespace sim_hw {
 
-// The seven names above, in a fixed order.
+// The eight names above, in a fixed order.
 const std::vector<std::string>& blind_effect_names();
 
 struct HiddenEffect {
@@ -38,6 +43,7 @@ struct HiddenEffect {
   std::vector<std::pair<std::string, double>> parameters;
   twin::Material truth;          // the specimen's material carrying the effect (twin's effects)
   std::vector<Crease> creases;  // outside_library only: applied to the reference sheet
+  double extra_grip_radius_m = 0.0;  // clamp_grip only: the jaws' true radius minus the file's
 };
 
 // The effect the seed picks (uniformly over blind_effect_names()).

@@ -41,6 +41,8 @@ class Clamp {
   Clamp(const SheetMesh& mesh, const ClampSpec& spec);
   const ClampSpec& spec() const { return spec_; }
   const std::vector<int>& vertices() const { return vertices_; }
+  // The rest triangle holding the material point (always among the gripped vertices).
+  const std::array<int, 3>& host_triangle() const { return host_triangle_; }
   // Writes the held positions of the gripped vertices into x (3n).
   void hold(const ClampPose& pose, VecX& x) const;
   // Where the clamp's material point is in the sheet at positions x (m): where the clamp grips

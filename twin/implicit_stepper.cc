@@ -94,6 +94,7 @@ SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet&
 SolveReport ImplicitStepper::single_step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
                                          const std::vector<ClampPose>& poses,
                                          const StepOptions& options) {
+  model_.hold_clamp_grips(poses);
   const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
   inertia_.set_step(x, v, dt_s);
   viscosity_.set_step(x, dt_s);

@@ -22,6 +22,8 @@ double get_parameter(const Material& m, MaterialParameter parameter) {
     case MaterialParameter::kMarkerMass: return m.effects.marker_mass_kg;
     case MaterialParameter::kRelaxationFraction: return m.effects.relaxation_fraction;
     case MaterialParameter::kRelaxationTime: return m.effects.relaxation_time_s;
+    case MaterialParameter::kClampGripStrength: return m.effects.clamp_grip_strength;
+    case MaterialParameter::kClampGripWidth: return m.effects.clamp_grip_width_m;
   }
   throw std::invalid_argument("get_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -48,6 +50,8 @@ void set_parameter(Material& m, MaterialParameter parameter, double value) {
     case MaterialParameter::kMarkerMass: m.effects.marker_mass_kg = value; return;
     case MaterialParameter::kRelaxationFraction: m.effects.relaxation_fraction = value; return;
     case MaterialParameter::kRelaxationTime: m.effects.relaxation_time_s = value; return;
+    case MaterialParameter::kClampGripStrength: m.effects.clamp_grip_strength = value; return;
+    case MaterialParameter::kClampGripWidth: m.effects.clamp_grip_width_m = value; return;
   }
   throw std::invalid_argument("set_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -84,6 +88,8 @@ std::string_view parameter_name(MaterialParameter parameter) {
     case MaterialParameter::kMarkerMass: return "marker_mass_kg";
     case MaterialParameter::kRelaxationFraction: return "relaxation_fraction";
     case MaterialParameter::kRelaxationTime: return "relaxation_time_s";
+    case MaterialParameter::kClampGripStrength: return "clamp_grip_strength";
+    case MaterialParameter::kClampGripWidth: return "clamp_grip_width_m";
   }
   throw std::invalid_argument("parameter_name: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -108,6 +114,10 @@ ParameterScale parameter_scale(MaterialParameter parameter) {
     case MaterialParameter::kMarkerMass: return {false, 1e-3, 0.0, 0.05};         // kg
     case MaterialParameter::kRelaxationFraction: return {false, 0.1, 0.0, 0.95};
     case MaterialParameter::kRelaxationTime: return {true, 1.0, 0.1, 1e6};        // s
+    // Strength 1 holds a vertex as firmly as the clamp's own patch; 10x that is rigid for any
+    // sheet the twin simulates.
+    case MaterialParameter::kClampGripStrength: return {false, 0.1, 0.0, 10.0};
+    case MaterialParameter::kClampGripWidth: return {true, 1.0, 0.005, kMaxClampGripWidth_m};  // m
   }
   throw std::invalid_argument("parameter_scale: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));

@@ -19,6 +19,8 @@
 //   kMarkerMass          point mass per marker (kg)   "marker_mass_kg"
 //   kRelaxationFraction  relaxed fraction (1)         "relaxation_fraction"
 //   kRelaxationTime      tau (s)                      "relaxation_time_s"
+//   kClampGripStrength   grip strength s (1)          "clamp_grip_strength"
+//   kClampGripWidth      grip width w (m)             "clamp_grip_width_m"
 //
 // Search coordinates. Optimisers and derivatives work in a coordinate y per parameter: y = log p
 // for the positive ones (stiffnesses span decades, and a relative step means the same
@@ -49,9 +51,11 @@ enum class MaterialParameter {
   kMarkerMass,
   kRelaxationFraction,
   kRelaxationTime,
+  kClampGripStrength,
+  kClampGripWidth,
 };
 
-inline constexpr std::array<MaterialParameter, 15> kAllMaterialParameters = {
+inline constexpr std::array<MaterialParameter, 17> kAllMaterialParameters = {
     MaterialParameter::kTensile,          MaterialParameter::kTensileU,
     MaterialParameter::kTensileV,         MaterialParameter::kShear,
     MaterialParameter::kBending,          MaterialParameter::kBendingU,
@@ -59,7 +63,8 @@ inline constexpr std::array<MaterialParameter, 15> kAllMaterialParameters = {
     MaterialParameter::kRestCurvatureUU,  MaterialParameter::kRestCurvatureVV,
     MaterialParameter::kRestCurvatureUV,  MaterialParameter::kBendingStiffening,
     MaterialParameter::kMarkerMass,       MaterialParameter::kRelaxationFraction,
-    MaterialParameter::kRelaxationTime};
+    MaterialParameter::kRelaxationTime,   MaterialParameter::kClampGripStrength,
+    MaterialParameter::kClampGripWidth};
 
 struct ParameterScale {
   bool logarithmic = true;  // y = log p; else y = p / scale

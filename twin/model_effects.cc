@@ -30,7 +30,8 @@ bool ModelEffects::has_rest_curvature() const {
 
 bool ModelEffects::any() const {
   return has_rest_curvature() || bending_stiffening_m2 != 0.0 || marker_mass_kg != 0.0 ||
-         relaxation_fraction != 0.0 || relaxation_time_s != kDefaults.relaxation_time_s;
+         relaxation_fraction != 0.0 || relaxation_time_s != kDefaults.relaxation_time_s ||
+         clamp_grip_strength != 0.0 || clamp_grip_width_m != kDefaults.clamp_grip_width_m;
 }
 
 double ModelEffects::relaxation_factor(double age_s) const {
@@ -57,10 +58,16 @@ void ModelEffects::validate(const std::string& source) const {
   if (!(std::isfinite(relaxation_time_s) && relaxation_time_s > 0.0)) {
     fail(source, "relaxation_time_s", relaxation_time_s, "a positive finite number (s)");
   }
+  if (!(std::isfinite(clamp_grip_strength) && clamp_grip_strength >= 0.0)) {
+    fail(source, "clamp_grip.strength", clamp_grip_strength, "a finite number >= 0");
+  }
+  if (!(clamp_grip_width_m > 0.0 && clamp_grip_width_m <= kMaxClampGripWidth_m)) {
+    fail(source, "clamp_grip.width_m", clamp_grip_width_m, "in (0, 0.15] (m)");
+  }
 }
 
 ModelEffects model_effects_from_json(const JsonField& block) {
-  block.only_keys({"rest_curvature_1_m", "bending_stiffening_m2", "marker_mass_kg", "relaxation"});
+  block.only_keys({"rest_curvature_1_m", "bending_stiffening_m2", "marker_mass_kg", "relaxation", "clamp_grip"});
   ModelEffects e;
   if (auto k = block.optional("rest_curvature_1_m")) {
     k->only_keys({"uu", "vv", "uv"});
@@ -70,6 +77,11 @@ ModelEffects model_effects_from_json(const JsonField& block) {
   }
   if (auto x = block.optional("bending_stiffening_m2")) e.bending_stiffening_m2 = x->non_negative("m^2");
   if (auto x = block.optional("marker_mass_kg")) e.marker_mass_kg = x->non_negative("kg");
+  if (auto c = block.optional("clamp_grip")) {
+    c->only_keys({"strength", "width_m"});
+    if (auto x = c->optional("strength")) e.clamp_grip_strength = x->non_negative("(dimensionless)");
+    if (auto x = c->optional("width_m")) e.clamp_grip_width_m = x->positive("m");
+  }
   if (auto r = block.optional("relaxation")) {
     r->only_keys({"fraction", "time_s"});
     if (auto x = r->optional("fraction")) {
@@ -93,6 +105,9 @@ nlohmann::json model_effects_to_json(const ModelEffects& e) {
     j["bending_stiffening_m2"] = e.bending_stiffening_m2;
   }
   if (e.marker_mass_kg != kDefaults.marker_mass_kg) j["marker_mass_kg"] = e.marker_mass_kg;
+  if (e.clamp_grip_strength != kDefaults.clamp_grip_strength || e.clamp_grip_width_m != kDefaults.clamp_grip_width_m) {
+    j["clamp_grip"] = {{"strength", e.clamp_grip_strength}, {"width_m", e.clamp_grip_width_m}};
+  }
   if (e.relaxation_fraction != kDefaults.relaxation_fraction ||
       e.relaxation_time_s != kDefaults.relaxation_time_s) {
     j["relaxation"] = {{"fraction", e.relaxation_fraction}, {"time_s", e.relaxation_time_s}};

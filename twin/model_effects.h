@@ -19,6 +19,11 @@
 //                               the clamps last moved (a quasi-elastic approximation of a
 //                               standard linear solid: the equilibrium under the relaxed
 //                               modulus). Needs time-stamped stages.
+//   clamp grip                  the jaws hold a wider patch than the clamps' grip radii say:
+//                               material up to a width w (m) beyond a clamp's radius is held
+//                               too, with a strength s (1: as firmly as the clamp's own patch,
+//                               0: not at all; clamp_grip_term.h). Only models that know the
+//                               clamps (ShellModel::set_clamp_grips) apply it.
 // Orthotropic stiffness (warp != weft) is not here: the material has had per-direction tensile
 // stiffness and bending rigidity from the start.
 
@@ -30,6 +35,9 @@ namespace twin {
 
 class JsonField;
 
+// The widest grip the twin represents (m): springs are built out to this beyond each radius.
+inline constexpr double kMaxClampGripWidth_m = 0.15;
+
 struct ModelEffects {
   double rest_curvature_uu_1_m = 0.0;  // 1/m
   double rest_curvature_vv_1_m = 0.0;  // 1/m
@@ -38,6 +46,8 @@ struct ModelEffects {
   double marker_mass_kg = 0.0;         // per marker, kg, >= 0
   double relaxation_fraction = 0.0;    // in [0, 1)
   double relaxation_time_s = 60.0;     // tau, s, > 0 (irrelevant while the fraction is 0)
+  double clamp_grip_strength = 0.0;    // s, >= 0 (0: the effect absent)
+  double clamp_grip_width_m = 0.05;    // w, m, in (0, kMaxClampGripWidth_m] (irrelevant while s is 0)
 
   bool has_rest_curvature() const;
   // True when any effect is present (a field away from its default).

@@ -37,7 +37,9 @@ ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gra
       masses_(lumped_vertex_masses(mesh_, material.surface_density_kg_m2)),
       membrane_(mesh_, material.membrane_stiffness()),
       bending_(mesh_, material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm),
-      gravity_(masses_, gravity_m_s2) {
+      gravity_(masses_, gravity_m_s2),
+      grip_(mesh_.vertex_count()) {
+  grip_.set_grip(material_.effects.clamp_grip_strength, material_.effects.clamp_grip_width_m);
   apply_bending_effects(material_.effects);
   // A relaxing material starts fully relaxed (the age is unknown until someone sets it).
   if (stiffness_factor() != 1.0) update_stiffness(material_, load_age_s_);
@@ -73,8 +75,11 @@ void ShellModel::set_material(const Material& material) {
   update_stiffness(material, load_age_s_);
   apply_bending_effects(material.effects);  // cannot throw for a validated material
   material_ = material;
+  grip_.set_grip(material.effects.clamp_grip_strength, material.effects.clamp_grip_width_m);
   update_masses();
 }
+
+void ShellModel::set_clamp_grips(const ClampSet& clamps) { grip_.set_clamps(mesh_, clamps); }
 
 void ShellModel::set_marker_points(std::vector<MaterialPointLocation> markers) {
   for (std::size_t i = 0; i < markers.size(); ++i) {

@@ -13,10 +13,15 @@
 //   - viscoelastic relaxation: how long ago the clamps last moved (set_load_age_s). Tensile,
 //     shear and bending stiffness are the material's times effects.relaxation_factor(age).
 //     Whoever solves or differentiates a stage sets its age first (trial_simulation.h).
+//   - clamp grip width: which clamps hold the sheet (set_clamp_grips, before any solver is
+//     built on the model) and which of them are engaged now (hold_clamp_grips, which the
+//     solvers call with the poses they are given). Without clamps set the effect has nothing
+//     to act on.
 
 #include <memory>
 
 #include "twin/bending_term.h"
+#include "twin/clamp_grip_term.h"
 #include "twin/gravity_term.h"
 #include "twin/material.h"
 #include "twin/material_point.h"
@@ -49,6 +54,14 @@ class ShellModel {
   // The factor the stiffnesses carry now: material().effects.relaxation_factor(load_age_s()).
   double stiffness_factor() const { return material_.effects.relaxation_factor(load_age_s_); }
 
+  // The clamps whose jaws the grip-width effect widens (clamp_grip_term.h). Call before solvers
+  // are built on this model: they keep the sparsity pattern of its terms.
+  void set_clamp_grips(const ClampSet& clamps);
+  // Which of them grip now: every solve and differentiation with poses calls this first. No
+  // clamps set: nothing to do; a different clamp count throws std::invalid_argument.
+  void hold_clamp_grips(const std::vector<ClampPose>& poses) const { grip_.set_engaged(poses); }
+  const ClampGripTerm& clamp_grip() const { return grip_; }
+
   const SheetMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
   int vertex_count() const { return mesh_.vertex_count(); }
@@ -61,7 +74,7 @@ class ShellModel {
   BendingTerm& bending() { return bending_; }
   const GravityTerm& gravity() const { return gravity_; }
   // The potential-energy terms, in a fixed order.
-  std::vector<const EnergyTerm*> potential_terms() const { return {&membrane_, &bending_, &gravity_}; }
+  std::vector<const EnergyTerm*> potential_terms() const { return {&membrane_, &bending_, &gravity_, &grip_}; }
 
  private:
   void apply_bending_effects(const ModelEffects& effects);
@@ -77,6 +90,7 @@ class ShellModel {
   MembraneTerm membrane_;
   BendingTerm bending_;
   GravityTerm gravity_;
+  ClampGripTerm grip_;
 };
 
 // Lumped masses (kg): a third of each triangle's mass to each of its vertices.

@@ -36,6 +36,7 @@ double free_weight_N(const ShellModel& model, const DofMap& dofs) {
 
 SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampPose>& poses,
                                 VecX& x, const NewtonOptions& options, OnFailure on_failure) {
+  model_.hold_clamp_grips(poses);
   const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
   VecX trial = x;
   clamps.hold(poses, trial);
@@ -51,6 +52,7 @@ SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampP
 
 SolveReport StaticSolver::settle(const ClampSet& clamps, const std::vector<ClampPose>& poses,
                                  VecX& x, const NewtonOptions& options) {
+  model_.hold_clamp_grips(poses);
   const auto start = std::chrono::steady_clock::now();
   const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
   const double force_scale_N = free_weight_N(model_, dofs);
@@ -130,6 +132,7 @@ namespace twin {
 SolveReport StaticSolver::solve_from_equilibrium(const ClampSet& clamps,
                                                  const std::vector<ClampPose>& poses, VecX& x,
                                                  const NewtonOptions& options) {
+  model_.hold_clamp_grips(poses);
   const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
   VecX moved = x;
   clamps.hold(poses, moved);

@@ -56,3 +56,24 @@ TEST_CASE("relaxation refits start with tau spread over the stages' ages", "[dia
   mass_step(3) = 1.0;
   CHECK(dx::refit_starts(dx::find_effect("marker_mass"), base_fit(), mass_step, ages).size() == 3);
 }
+
+TEST_CASE("clamp grip refits also start with firm jaws at widths over the range", "[diagnosis][refit]") {
+  const dx::CandidateEffect& grip = dx::find_effect("clamp_grip");
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(4);
+  step(3) = 2.0;  // strength 0.2 (scale 0.1 per coordinate unit) at the default width
+  const std::vector<twin::Material> starts = dx::refit_starts(grip, base_fit(), step);
+  // Null, one step, three steps, and three widths.
+  REQUIRE(starts.size() == 6);
+  CHECK(starts[0].effects.clamp_grip_strength == 0.0);
+  CHECK(starts[1].effects.clamp_grip_strength == Approx(0.2));
+  CHECK(starts[1].effects.clamp_grip_width_m == twin::ModelEffects{}.clamp_grip_width_m);
+  std::vector<double> widths;
+  for (std::size_t k = 3; k < starts.size(); ++k) {
+    CHECK(starts[k].effects.clamp_grip_strength == 1.0);
+    CHECK(starts[k].bending_rigidity_u_Nm == base_fit().bending_rigidity_u_Nm);  // from the null start
+    widths.push_back(starts[k].effects.clamp_grip_width_m);
+  }
+  CHECK(std::is_sorted(widths.begin(), widths.end()));
+  CHECK(widths.front() < twin::ModelEffects{}.clamp_grip_width_m);
+  CHECK(widths.back() <= twin::kMaxClampGripWidth_m);
+}

@@ -88,7 +88,7 @@ TEST_CASE("columns without sensitivity or inside the base span add no dof", "[di
 }
 
 TEST_CASE("the effect library names its candidates and their parameters", "[diagnosis][effects]") {
-  REQUIRE(dx::effect_library().size() == 5);
+  REQUIRE(dx::effect_library().size() == 6);
   const dx::CandidateEffect& ortho = dx::find_effect("orthotropic_stiffness");
   CHECK(ortho.score_dof() == 2);
   CHECK(ortho.added_count() == 2);
@@ -97,7 +97,11 @@ TEST_CASE("the effect library names its candidates and their parameters", "[diag
   CHECK(relax.score_dof() == 1);   // the fraction, tau at its default
   CHECK(relax.added_count() == 2);  // the refit frees tau too
   CHECK_THROWS_WITH(dx::find_effect("clamp_slip"), Catch::Contains("clamp_slip") && Catch::Contains("marker_mass"));
-  CHECK(dx::select_effects("").size() == 5);
+  CHECK(dx::select_effects("").size() == 6);
+  const dx::CandidateEffect& grip = dx::find_effect("clamp_grip");
+  CHECK(grip.score_dof() == 1);
+  CHECK(grip.added_count() == 2);  // the refit frees the width too
+  CHECK(grip.score_parameters.back() == twin::MaterialParameter::kClampGripStrength);
   CHECK(dx::select_effects("marker_mass,nonlinear_bending").size() == 2);
   CHECK_THROWS_WITH(dx::select_effects("marker_mass,gravity"), Catch::Contains("gravity"));
 

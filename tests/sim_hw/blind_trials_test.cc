@@ -55,13 +55,13 @@ std::map<std::string, std::string> files_under(const fs::path& directory) {
 
 TEST_CASE("the seed picks every effect about equally often", "[blind]") {
   const auto& names = sim_hw::blind_effect_names();
-  REQUIRE(names.size() == 7);
+  REQUIRE(names.size() == 8);
   std::map<std::string, int> counts;
-  const int seeds = 7000;
+  const int seeds = 8000;
   for (int s = 1; s <= seeds; ++s) ++counts[sim_hw::effect_for_seed(static_cast<std::uint64_t>(s))];
   CHECK(counts.size() == names.size());
   for (const std::string& name : names) {
-    // Binomial(7000, 1/7): mean 1000, sigma 29; five sigma either way.
+    // Binomial(8000, 1/8): mean 1000, sigma 30; five sigma either way.
     INFO(name << ": " << counts[name]);
     CHECK(counts[name] > 855);
     CHECK(counts[name] < 1145);
@@ -86,6 +86,7 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
       const twin::ModelEffects& e = m.effects;
       CHECK(h.effect == effect);
       CHECK(h.creases.size() == (effect == "outside_library" ? 2u : 0u));
+      CHECK((h.extra_grip_radius_m != 0.0) == (effect == "clamp_grip"));
       // Only the drawn effect departs from the specimen: everything else is the specimen's.
       CHECK(e.any() == (effect == "rest_curvature" || effect == "nonlinear_bending" || effect == "marker_mass" ||
                         effect == "viscoelastic_relaxation"));
@@ -119,6 +120,9 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
         CHECK(e.relaxation_fraction <= 0.6);
         CHECK(e.relaxation_time_s >= 60.0);
         CHECK(e.relaxation_time_s <= 600.0);
+      } else if (effect == "clamp_grip") {
+        CHECK(h.extra_grip_radius_m >= 0.05);
+        CHECK(h.extra_grip_radius_m <= 0.12);
       } else if (effect == "outside_library") {
         for (const sim_hw::Crease& c : h.creases) {
           CHECK(std::abs(c.angle_rad) >= 40.0 * M_PI / 180 - 1e-12);

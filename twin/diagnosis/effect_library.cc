@@ -46,6 +46,11 @@ const std::vector<CandidateEffect>& effect_library() {
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kRelaxationFraction},
                  CandidateEffect::Needs::kStageAges});
+    l.push_back({"clamp_grip", "the clamps' jaws grip a wider patch than the trial's grip radii say",
+                 {P::kTensile, P::kShear, P::kBending, P::kClampGripStrength, P::kClampGripWidth},
+                 3,
+                 {P::kTensile, P::kShear, P::kBending, P::kClampGripStrength},
+                 CandidateEffect::Needs::kNothing});
     return l;
   }();
   return library;

@@ -32,7 +32,8 @@ struct CandidateEffect {
   // columns of the paired ones move both directions, the V ones the warp alone, which spans
   // the per-direction model (the CAUTION of common.md concerns material_at, and the test only
   // evaluates at the isotropic base fit, where u = v). For relaxation the test uses the
-  // fraction with tau at its default: tau has no sensitivity while the fraction is zero.
+  // fraction with tau at its default: tau has no sensitivity while the fraction is zero; for
+  // clamp grip likewise the strength with the width at its default (5 cm).
   std::vector<MaterialParameter> score_parameters;
   enum class Needs { kNothing, kMarkerStages, kStageAges };
   Needs needs = Needs::kNothing;
@@ -45,7 +46,7 @@ struct CandidateEffect {
 const std::vector<MaterialParameter>& base_parameters();
 
 // The candidates, in a fixed order: orthotropic_stiffness, rest_curvature, nonlinear_bending,
-// marker_mass, viscoelastic_relaxation.
+// marker_mass, viscoelastic_relaxation, clamp_grip.
 const std::vector<CandidateEffect>& effect_library();
 
 // The candidate named `name`; throws std::invalid_argument quoting it and listing the names.

@@ -100,6 +100,16 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
       starts.push_back(m);
     }
   }
+  if (effect.name == "clamp_grip") {
+    // The width saturates (jaws wider than the first ring of vertices grip it whole) and the
+    // score test assumed the default: firm jaws at widths spread over the range.
+    for (double width_m : {0.025, 0.06, 0.12}) {
+      Material m = starts.front();
+      m.effects.clamp_grip_strength = 1.0;
+      m.effects.clamp_grip_width_m = width_m;
+      starts.push_back(m);
+    }
+  }
   if (effect.name == "orthotropic_stiffness") {
     for (double ratio : {0.5, 2.0}) {
       Material m = starts.front();

@@ -61,7 +61,9 @@ struct RefitOptions {
 // the misfit has a minimum for each tau that trades against the fraction: three more starts
 // put tau at 1/6, 1/2 and 5/6 of the way (logarithmically) from the youngest to the oldest
 // stage age of the training trials (`stage_ages_s`, finite values only), the fraction at the
-// one-step estimate kept within [0.1, 0.6].
+// one-step estimate kept within [0.1, 0.6]. For clamp grip the response saturates in the width
+// (jaws that pass the first ring of vertices grip it whole) and the score test assumed the
+// default width: three more starts with strength 1 at widths 2.5, 6 and 12 cm.
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {});
 
