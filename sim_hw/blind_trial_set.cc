@@ -26,7 +26,6 @@ ScannerLabConfig lab_config(const BlindSetConfig& config, const HiddenEffect& hi
   lab.reference_triangles = config.triangles;
   lab.raw_scans = config.raw_scans;
   lab.material_override = hidden.truth;
-  lab.extra_grip_radius_m = hidden.extra_grip_radius_m;
   if (!hidden.creases.empty()) {
     lab.adjust_reference = [creases = hidden.creases](twin::ShellModel& model) {
       for (const Crease& crease : creases) {
@@ -58,7 +57,6 @@ double effect_shift_m(const BlindTrialSet& set, std::size_t k, const LabSpecimen
   ScannerLabConfig plain = set.labs[k];
   plain.material_override = specimen.truth;
   plain.adjust_reference = nullptr;
-  plain.extra_grip_radius_m = 0.0;
   plain.raw_scans = false;
   try {
     const LabTrial without = make_lab_trial(plain);

@@ -143,10 +143,11 @@ HiddenEffect draw_hidden_effect(std::uint64_t seed, const std::string& effect, c
     h.description = fmt::format("stiffness relaxes by {:.0f} % with tau = {:.0f} s after each clamp move",
                                 100.0 * e.relaxation_fraction, e.relaxation_time_s);
   } else if (effect == "clamp_grip") {
-    h.extra_grip_radius_m = d.uniform(0.05, 0.12);
-    h.parameters = {{"extra_grip_radius_m", h.extra_grip_radius_m}};
-    h.description = fmt::format("the clamps' jaws grip {:.0f} mm further out than the trial files say",
-                                h.extra_grip_radius_m * 1e3);
+    e.clamp_grip_width_m = d.uniform(0.03, 0.10);
+    e.clamp_grip_strength = std::exp(d.uniform(std::log(0.5), std::log(2.0)));
+    h.parameters = {{"clamp_grip_strength", e.clamp_grip_strength}, {"clamp_grip_width_m", e.clamp_grip_width_m}};
+    h.description = fmt::format("the clamps' jaws grip {:.0f} mm further out than the trial files say, strength {:.2f}",
+                                e.clamp_grip_width_m * 1e3, e.clamp_grip_strength);
   } else {  // outside_library
     // Folded in four for storage: the two folds cross at right angles, at a random turn.
     const twin::Vec2 point(d.uniform(0.35, 0.65) * specimen.width_m, d.uniform(0.35, 0.65) * specimen.height_m);

@@ -12,11 +12,12 @@
 //   nonlinear_bending        beta with beta kappa^2 = 0.5-3 at the trial's typical curvature
 //   marker_mass              0.5-2 g per marker (quarter-inch raised markers)
 //   viscoelastic_relaxation  fraction 0.3-0.6, time constant 60-600 s
-//   clamp_grip               the jaws grip a patch 5-12 cm wider (in radius) than the trial
-//                            file's grip radius says: the reference sheet is held rigidly out to
-//                            the wider radius (a different representation from the twin's
-//                            clamp_grip_term.h springs), and the wider jaws hide the markers
-//                            they cover
+//   clamp_grip               the jaws grip 3-10 cm further out than the trial file's grip
+//                            radii say, with strength 0.5-2 (twin/clamp_grip_term.h). The markers
+//                            hidden stay those within the lab's jaw radius: which markers a
+//                            trial hides must not give the effect away. Rigid jaws of a wider radius were
+//                            tried first: on the 300-triangle reference mesh they grip whole
+//                            9 cm triangles or nothing, a change no smooth model follows.
 //   outside_library          the ply was folded in four once: two perpendicular creases
 //                            (sim_hw/crease.h) through a point near the middle, 40-80 deg each
 // The ranges are the lab's idea of realistic, not the analysis's: diagnose must not rely on them.
@@ -43,7 +44,6 @@ struct HiddenEffect {
   std::vector<std::pair<std::string, double>> parameters;
   twin::Material truth;          // the specimen's material carrying the effect (twin's effects)
   std::vector<Crease> creases;  // outside_library only: applied to the reference sheet
-  double extra_grip_radius_m = 0.0;  // clamp_grip only: the jaws' true radius minus the file's
 };
 
 // The effect the seed picks (uniformly over blind_effect_names()).

@@ -154,9 +154,8 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
   const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   reference.set_marker_points(markers);
   if (config.adjust_reference) config.adjust_reference(reference);
-  std::vector<twin::ClampSpec> true_jaws = trial.clamps;
-  for (twin::ClampSpec& jaw : true_jaws) jaw.grip_radius_m += config.extra_grip_radius_m;
-  const twin::ClampSet clamps(reference.mesh(), true_jaws);
+  const twin::ClampSet clamps(reference.mesh(), trial.clamps);
+  reference.set_clamp_grips(clamps);  // jaws that grip wider, when the truth says so
   const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());
   for (std::size_t s = 0; s < true_poses.size(); ++s) {
@@ -189,8 +188,8 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     for (int m = 0; m < markers.size(); ++m) {
       bool hidden = false;
       for (std::size_t c = 0; c < trial.clamps.size(); ++c) {
-        hidden |= true_poses[s][c].engaged && (trial.marker_uv_m[m] - trial.clamps[c].material_point_m).norm() <
-                                                  std::max(config.clamp_jaw_radius_m, true_jaws[c].grip_radius_m);
+        hidden |= true_poses[s][c].engaged &&
+                  (trial.marker_uv_m[m] - trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m;
       }
       if (hidden) {
         stage.observed.markers_m.push_back(Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));

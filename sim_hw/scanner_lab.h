@@ -40,10 +40,6 @@ struct ScannerLabConfig {
   // sheet once it is built with its material; the lab never sets the material again afterwards,
   // so what this changes (rest angles, ...) stays for every stage. Empty: no change.
   std::function<void(twin::ShellModel&)> adjust_reference;
-  // The jaws really grip this much further out (m) than the clamps' grip radii in the trial file
-  // (hidden effect clamp_grip): the reference sheet is held rigidly out to the wider radius and
-  // the jaws hide the markers they cover.
-  double extra_grip_radius_m = 0.0;
 };
 
 struct LabTrial {

@@ -86,10 +86,9 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
       const twin::ModelEffects& e = m.effects;
       CHECK(h.effect == effect);
       CHECK(h.creases.size() == (effect == "outside_library" ? 2u : 0u));
-      CHECK((h.extra_grip_radius_m != 0.0) == (effect == "clamp_grip"));
       // Only the drawn effect departs from the specimen: everything else is the specimen's.
       CHECK(e.any() == (effect == "rest_curvature" || effect == "nonlinear_bending" || effect == "marker_mass" ||
-                        effect == "viscoelastic_relaxation"));
+                        effect == "viscoelastic_relaxation" || effect == "clamp_grip"));
       const bool orthotropic = effect == "orthotropic_stiffness";
       CHECK((m.bending_rigidity_u_Nm != m.bending_rigidity_v_Nm) == orthotropic);
       CHECK(m.surface_density_kg_m2 == composite.truth.surface_density_kg_m2);
@@ -121,8 +120,10 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
         CHECK(e.relaxation_time_s >= 60.0);
         CHECK(e.relaxation_time_s <= 600.0);
       } else if (effect == "clamp_grip") {
-        CHECK(h.extra_grip_radius_m >= 0.05);
-        CHECK(h.extra_grip_radius_m <= 0.12);
+        CHECK(e.clamp_grip_width_m >= 0.03);
+        CHECK(e.clamp_grip_width_m <= 0.10);
+        CHECK(e.clamp_grip_strength >= 0.5 - 1e-12);
+        CHECK(e.clamp_grip_strength <= 2.0 + 1e-12);
       } else if (effect == "outside_library") {
         for (const sim_hw::Crease& c : h.creases) {
           CHECK(std::abs(c.angle_rad) >= 40.0 * M_PI / 180 - 1e-12);

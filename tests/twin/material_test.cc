@@ -53,8 +53,10 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   CHECK_FALSE(material_to_json(material_from_json(j, "plain.json")).contains("effects"));
   j["effects"] = json::parse(R"({"rest_curvature_1_m": {"uu": 1.5, "uv": -0.25},
     "bending_stiffening_m2": 0.02, "marker_mass_kg": 0.0004,
-    "relaxation": {"fraction": 0.3, "time_s": 120}})");
+    "relaxation": {"fraction": 0.3, "time_s": 120}, "clamp_grip": {"strength": 0.8, "width_m": 0.07}})");
   const Material m = material_from_json(j, "roll.json");
+  CHECK(m.effects.clamp_grip_strength == 0.8);
+  CHECK(m.effects.clamp_grip_width_m == 0.07);
   CHECK(m.effects.rest_curvature_uu_1_m == 1.5);
   CHECK(m.effects.rest_curvature_vv_1_m == 0.0);
   CHECK(m.effects.rest_curvature_uv_1_m == -0.25);
@@ -67,6 +69,8 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   CHECK(again.effects.rest_curvature_uv_1_m == -0.25);
   CHECK(again.effects.relaxation_time_s == 120.0);
   CHECK(again.effects.marker_mass_kg == 0.0004);
+  CHECK(again.effects.clamp_grip_width_m == 0.07);
+  CHECK(again.effects.clamp_grip_strength == 0.8);
 
   auto rejects = [&](const char* effects, const char* field) {
     json bad = composite();
@@ -84,6 +88,9 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   rejects(R"({"relaxation": {"fraction": 1.0}})", "fraction");
   rejects(R"({"relaxation": {"time_s": 0}})", "time_s");
   rejects(R"({"roll_set": 1})", "roll_set");
+  rejects(R"({"clamp_grip": {"width_m": 0.5}})", "width_m");
+  rejects(R"({"clamp_grip": {"strength": -1}})", "strength");
+  rejects(R"({"clamp_grip": {"jaws": 2}})", "jaws");
   rejects(R"({"rest_curvature_1_m": {"uu": "a"}})", "uu");
 }
 
