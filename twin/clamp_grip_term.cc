@@ -11,9 +11,7 @@
 
 namespace twin {
 
-ClampGripTerm::ClampGripTerm(int vertex_count) : vertex_count_(vertex_count) {
-  set_elements({}, vertex_count);
-}
+ClampGripTerm::ClampGripTerm(int vertex_count) : vertex_count_(vertex_count) {}
 
 void ClampGripTerm::set_clamps(const SheetMesh& mesh, const ClampSet& clamps) {
   if (mesh.vertex_count() != vertex_count_) {
@@ -52,7 +50,7 @@ void ClampGripTerm::set_clamps(const SheetMesh& mesh, const ClampSet& clamps) {
   }
   clamp_count_ = clamps.size();
   engaged_.assign(clamp_count_, 1);
-  set_elements(std::move(vertices), vertex_count_);
+  vertices_ = std::move(vertices);
 }
 
 void ClampGripTerm::set_engaged(const std::vector<ClampPose>& poses) const {
@@ -71,23 +69,32 @@ double ClampGripTerm::spring_stiffness_N_m(int spring) const {
   return strength_ * kGripStiffness_N_m3 * s.area_m2 * covered;
 }
 
-double ClampGripTerm::element_energy(int e, const ElementVector& xe, ElementVector* g, ElementMatrix* h,
-                                     HessianMode /*mode: the energy is convex*/) const {
-  const double k_N_m = spring_stiffness_N_m(e);
-  const Vec3& l = springs_[e].affine;
-  // r = A xe with A = [I, -l0 I, -l1 I, -l2 I].
-  const Eigen::Vector4d a(1.0, -l(0), -l(1), -l(2));
-  Vec3 r = Vec3::Zero();
-  for (int k = 0; k < 4; ++k) r += a(k) * xe.segment<3>(3 * k);
-  if (g) {
-    for (int k = 0; k < 4; ++k) g->segment<3>(3 * k) = k_N_m * a(k) * r;
-  }
-  if (h) {
-    for (int p = 0; p < 4; ++p) {
-      for (int q = 0; q < 4; ++q) h->block<3, 3>(3 * p, 3 * q) = k_N_m * a(p) * a(q) * Mat3::Identity();
+double ClampGripTerm::evaluate(const VecX& x, VecX* grad, const HessianTarget* hess,
+                               HessianMode /*mode: the energy is convex*/) const {
+  if (strength_ == 0.0) return 0.0;
+  double energy = 0.0;
+  for (int e = 0; e < spring_count(); ++e) {
+    const double k_N_m = spring_stiffness_N_m(e);
+    if (k_N_m == 0.0) continue;  // a released clamp, or beyond the jaws
+    const int* v = &vertices_[4 * e];
+    const Vec3& l = springs_[e].affine;
+    // r = A xe with A = [I, -l0 I, -l1 I, -l2 I].
+    const Eigen::Vector4d a(1.0, -l(0), -l(1), -l(2));
+    Vec3 r = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) r += a(k) * x.segment<3>(3 * v[k]);
+    energy += 0.5 * k_N_m * r.squaredNorm();
+    if (grad) {
+      for (int k = 0; k < 4; ++k) grad->segment<3>(3 * v[k]) += k_N_m * a(k) * r;
+    }
+    if (hess) {
+      Eigen::Matrix<double, 12, 12> h;
+      for (int p = 0; p < 4; ++p) {
+        for (int q = 0; q < 4; ++q) h.block<3, 3>(3 * p, 3 * q) = k_N_m * a(p) * a(q) * Mat3::Identity();
+      }
+      hess->pattern->add<4>(hess->term, e, h);
     }
   }
-  return 0.5 * k_N_m * r.squaredNorm();
+  return energy;
 }
 
 }  // namespace twin

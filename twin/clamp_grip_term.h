@@ -19,6 +19,10 @@
 // default) sees it, where an infinitesimal widening of a patch on a coarse mesh would move no
 // vertex. The energy is quadratic in x: the gradient and Hessian are exact.
 //
+// The springs of one clamp all share its host triangle, so they cannot be coloured into
+// parallel batches (ElementTerm would make one OpenMP region per spring): they are summed in one
+// serial pass, which costs nothing at strength 0.
+//
 // A released clamp grips nothing: which clamps are engaged is set by whoever solves or
 // differentiates with given poses (set_engaged). The springs are built once from the clamps
 // (set_clamps) and never change afterwards, so solvers' sparsity patterns stay valid.
@@ -31,7 +35,7 @@
 
 namespace twin {
 
-class ClampGripTerm final : public ElementTerm<4> {
+class ClampGripTerm final : public EnergyTerm {
  public:
   // Stiffness per unit area (N/m^3) at strength 1: on a 300-triangle composite sheet a vertex
   // (about 7e-3 m^2) is held at ~7e4 N/m, so the sheet's weight (3.4 N) moves it by < 0.1 mm.
@@ -39,12 +43,16 @@ class ClampGripTerm final : public ElementTerm<4> {
 
   explicit ClampGripTerm(int vertex_count);
   std::string_view name() const override { return "clamp_grip"; }
+  int arity() const override { return 4; }
+  // Per spring: the vertex, then its clamp's host triangle.
+  const std::vector<int>& element_vertices() const override { return vertices_; }
+  double evaluate(const VecX& x, VecX* grad, const HessianTarget* hess, HessianMode mode) const override;
 
   // Builds the springs of `clamps` on `mesh` (the model's). Replaces earlier ones; all clamps
   // start engaged. Call before solvers are built on the model (they keep its sparsity).
   void set_clamps(const SheetMesh& mesh, const ClampSet& clamps);
   int clamp_count() const { return clamp_count_; }
-  int spring_count() const { return element_count(); }
+  int spring_count() const { return static_cast<int>(springs_.size()); }
 
   void set_grip(double strength, double width_m) {
     strength_ = strength;
@@ -60,9 +68,6 @@ class ClampGripTerm final : public ElementTerm<4> {
   double spring_stiffness_N_m(int spring) const;
 
  private:
-  double element_energy(int e, const ElementVector& xe, ElementVector* g, ElementMatrix* h,
-                        HessianMode mode) const override;
-
   struct Spring {
     int clamp = 0;
     Vec3 affine = Vec3::Zero();  // lambda of the host triangle's vertices
@@ -73,6 +78,7 @@ class ClampGripTerm final : public ElementTerm<4> {
   int vertex_count_ = 0;
   int clamp_count_ = 0;
   std::vector<Spring> springs_;
+  std::vector<int> vertices_;
   double strength_ = 0.0;
   double width_m_ = 0.0;
   mutable std::vector<char> engaged_;
