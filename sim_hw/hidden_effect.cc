@@ -143,8 +143,8 @@ HiddenEffect draw_hidden_effect(std::uint64_t seed, const std::string& effect, c
     h.description = fmt::format("stiffness relaxes by {:.0f} % with tau = {:.0f} s after each clamp move",
                                 100.0 * e.relaxation_fraction, e.relaxation_time_s);
   } else if (effect == "clamp_grip") {
-    e.clamp_grip_width_m = d.uniform(0.03, 0.10);
-    e.clamp_grip_strength = std::exp(d.uniform(std::log(0.5), std::log(2.0)));
+    e.clamp_grip_width_m = d.uniform(0.02, 0.06);
+    e.clamp_grip_strength = std::exp(d.uniform(std::log(0.3), std::log(1.5)));
     h.parameters = {{"clamp_grip_strength", e.clamp_grip_strength}, {"clamp_grip_width_m", e.clamp_grip_width_m}};
     h.description = fmt::format("the clamps' jaws grip {:.0f} mm further out than the trial files say, strength {:.2f}",
                                 e.clamp_grip_width_m * 1e3, e.clamp_grip_strength);

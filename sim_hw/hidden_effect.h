@@ -12,8 +12,8 @@
 //   nonlinear_bending        beta with beta kappa^2 = 0.5-3 at the trial's typical curvature
 //   marker_mass              0.5-2 g per marker (quarter-inch raised markers)
 //   viscoelastic_relaxation  fraction 0.3-0.6, time constant 60-600 s
-//   clamp_grip               the jaws grip 3-10 cm further out than the trial file's grip
-//                            radii say, with strength 0.5-2 (twin/clamp_grip_term.h). The markers
+//   clamp_grip               the jaws grip 2-6 cm further out than the trial file's grip
+//                            radii say, with strength 0.3-1.5 (twin/clamp_grip_term.h). The markers
 //                            hidden stay those within the lab's jaw radius: which markers a
 //                            trial hides must not give the effect away. Rigid jaws of a wider radius were
 //                            tried first: on the 300-triangle reference mesh they grip whole

@@ -13,7 +13,7 @@
 //   - viscoelastic relaxation: how long ago the clamps last moved (set_load_age_s). Tensile,
 //     shear and bending stiffness are the material's times effects.relaxation_factor(age).
 //     Whoever solves or differentiates a stage sets its age first (trial_simulation.h).
-//   - clamp grip width: which clamps hold the sheet (set_clamp_grips, before any solver is
+//   - clamp grip: which clamps hold the sheet (set_clamp_grips, before any solver is
 //     built on the model) and which of them are engaged now (hold_clamp_grips, which the
 //     solvers call with the poses they are given). Without clamps set the effect has nothing
 //     to act on.
@@ -54,7 +54,7 @@ class ShellModel {
   // The factor the stiffnesses carry now: material().effects.relaxation_factor(load_age_s()).
   double stiffness_factor() const { return material_.effects.relaxation_factor(load_age_s_); }
 
-  // The clamps whose jaws the grip-width effect widens (clamp_grip_term.h). Call before solvers
+  // The clamps whose jaws the clamp-grip effect widens (clamp_grip_term.h). Call before solvers
   // are built on this model: they keep the sparsity pattern of its terms.
   void set_clamp_grips(const ClampSet& clamps);
   // Which of them grip now: every solve and differentiation with poses calls this first. No

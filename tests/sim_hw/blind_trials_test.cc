@@ -120,10 +120,10 @@ TEST_CASE("hidden effect magnitudes stay in the lab's realistic ranges", "[blind
         CHECK(e.relaxation_time_s >= 60.0);
         CHECK(e.relaxation_time_s <= 600.0);
       } else if (effect == "clamp_grip") {
-        CHECK(e.clamp_grip_width_m >= 0.03);
-        CHECK(e.clamp_grip_width_m <= 0.10);
-        CHECK(e.clamp_grip_strength >= 0.5 - 1e-12);
-        CHECK(e.clamp_grip_strength <= 2.0 + 1e-12);
+        CHECK(e.clamp_grip_width_m >= 0.02);
+        CHECK(e.clamp_grip_width_m <= 0.06);
+        CHECK(e.clamp_grip_strength >= 0.3 - 1e-12);
+        CHECK(e.clamp_grip_strength <= 1.5 + 1e-12);
       } else if (effect == "outside_library") {
         for (const sim_hw::Crease& c : h.creases) {
           CHECK(std::abs(c.angle_rad) >= 40.0 * M_PI / 180 - 1e-12);
