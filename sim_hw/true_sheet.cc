@@ -45,7 +45,8 @@ twin::SolveReport TrueSheet::load(const std::vector<HeldGrasp>& grasps) {
   // A quasi-static continuation from the flat sheet's grasp points took 10x longer at 2000
   // triangles (24.8 s against about 2 s) for the same start.
   twin::VecX x = twin::place_flat(model_.mesh(), placement_);
-  model_.set_clamp_grips(set);  // the material may widen the jaws (model_effects.h)
+  // Only when the material widens the jaws (see cell_twin.cc).
+  if (model_.material().effects.clamp_grip_strength > 0.0) model_.set_clamp_grips(set);
   twin::StaticSolver statics(model_);
   const twin::SolveReport report = statics.solve(set, held, x);
   if (!report.usable())
@@ -150,7 +151,8 @@ void TrueSheet::step(double dt_s) {
     // A new set of holding clamps; a fresh stepper takes each clamp's start from the sheet.
     try {
       clamps_ = std::make_unique<twin::ClampSet>(model_.mesh(), specs);
-      model_.set_clamp_grips(*clamps_);  // before the stepper builds its sparsity pattern
+      // Before the stepper builds its sparsity pattern; only when the material widens the jaws.
+      if (model_.material().effects.clamp_grip_strength > 0.0) model_.set_clamp_grips(*clamps_);
       stepper_ = std::make_unique<twin::ImplicitStepper>(model_);
     } catch (const std::invalid_argument& e) {
       failure = e.what();

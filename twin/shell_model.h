@@ -55,7 +55,11 @@ class ShellModel {
   double stiffness_factor() const { return material_.effects.relaxation_factor(load_age_s_); }
 
   // The clamps whose jaws the clamp-grip effect widens (clamp_grip_term.h). Call before solvers
-  // are built on this model: they keep the sparsity pattern of its terms.
+  // are built on this model: they keep the sparsity pattern of its terms. The springs stay in
+  // that pattern at strength 0 too, and after a release they couple the released clamp's host
+  // triangle to every vertex around it (fill-in in each factorisation): callers whose material
+  // never has the effect skip this (the cell, the fake world, `twin solve`); identification
+  // registers always, as a refit may switch the effect on.
   void set_clamp_grips(const ClampSet& clamps);
   // Which of them grip now: every solve and differentiation with poses calls this first. No
   // clamps set: nothing to do; a different clamp count throws std::invalid_argument.
