@@ -15,9 +15,9 @@ CellTwin::CellTwin(const twin::SheetMesh& mesh, const twin::Material& material,
   v_ = twin::VecX::Zero(x_.size());
   // The jaws close on the flat ply, so each clamp holds its patch turned as the ply lies.
   for (auto& p : poses_) p.rotation = placement.rotation;
-  // Only when the material widens the jaws (model_effects.h): the springs' couplings to a
+  // Only for the clamp effects the material has (model_effects.h): grip springs' couplings to a
   // released clamp's host triangle would otherwise fill in every factorisation for nothing.
-  if (material.effects.clamp_grip_strength > 0.0) model_->set_clamp_grips(clamps_);
+  model_->set_clamps_of_material_effects(clamps_);
   statics_ = std::make_unique<twin::StaticSolver>(*model_);
   stepper_ = std::make_unique<twin::ImplicitStepper>(*model_);
 }

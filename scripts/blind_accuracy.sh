@@ -4,7 +4,7 @@
 # `twin diagnose` on the files alone; then a table of how often the verdict is right.
 #
 # Usage: bash scripts/blind_accuracy.sh [SETS_PER_EFFECT (default 3)] [OUT (default out/blind_accuracy)]
-# Environment: EFFECTS (comma list, default all eight), TRIANGLES (default 300: reference sheet
+# Environment: EFFECTS (comma list, default all nine), TRIANGLES (default 300: reference sheet
 # and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
 # FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), JOBS (sets run at once, default 1; 2 on a
 # quiet two-core machine), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
@@ -20,7 +20,7 @@ build="${BUILD:-build}"
 triangles="${TRIANGLES:-300}"
 first_seed="${FIRST_SEED:-1}"
 jobs="${JOBS:-1}"
-effects="${EFFECTS:-none,orthotropic_stiffness,rest_curvature,nonlinear_bending,marker_mass,viscoelastic_relaxation,clamp_grip,outside_library}"
+effects="${EFFECTS:-none,orthotropic_stiffness,rest_curvature,nonlinear_bending,marker_mass,viscoelastic_relaxation,clamp_grip,clamp_slip,outside_library}"
 lab="${SCANNER_LAB:-$build/sim_hw/scanner_lab}"
 twin="${TWIN:-$build/twin/twin}"
 for exe in "$lab" "$twin"; do

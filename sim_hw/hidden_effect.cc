@@ -94,7 +94,7 @@ void nonlinear_bending(HiddenEffect& h, Draws& d, double typical_curvature_1_m) 
 const std::vector<std::string>& blind_effect_names() {
   static const std::vector<std::string> names = {"none",           "orthotropic_stiffness",   "rest_curvature",
                                                  "nonlinear_bending", "marker_mass", "viscoelastic_relaxation",
-                                                 "clamp_grip",        "outside_library"};
+                                                 "clamp_grip",        "clamp_slip",  "outside_library"};
   return names;
 }
 
@@ -106,7 +106,7 @@ std::uint64_t derived_seed(std::uint64_t seed, std::uint64_t stream) {
 
 std::string effect_for_seed(std::uint64_t seed) {
   const auto& names = blind_effect_names();
-  // 53 random bits to one of 8: the bias is far below anything a few hundred seeds could show.
+  // 53 random bits to one of 9: the bias is far below anything a few hundred seeds could show.
   Draws d(derived_seed(seed, kChoiceStream));
   const auto index = static_cast<std::size_t>(d.uniform(0.0, static_cast<double>(names.size())));
   return names[std::min(index, names.size() - 1)];
@@ -148,6 +148,11 @@ HiddenEffect draw_hidden_effect(std::uint64_t seed, const std::string& effect, c
     h.parameters = {{"clamp_grip_strength", e.clamp_grip_strength}, {"clamp_grip_width_m", e.clamp_grip_width_m}};
     h.description = fmt::format("the clamps' jaws grip {:.0f} mm further out than the trial files say, strength {:.2f}",
                                 e.clamp_grip_width_m * 1e3, e.clamp_grip_strength);
+  } else if (effect == "clamp_slip") {
+    e.clamp_slip_compliance_m_N = std::exp(d.uniform(std::log(1e-4), std::log(1e-3)));
+    h.parameters = {{"clamp_slip_compliance_m_N", e.clamp_slip_compliance_m_N}};
+    h.description = fmt::format("the ply slips in the clamps' jaws by {:.1f} mm per newton of pull along them",
+                                e.clamp_slip_compliance_m_N * 1e3);
   } else {  // outside_library
     // Folded in four for storage: the two folds cross at right angles, at a random turn.
     const twin::Vec2 point(d.uniform(0.35, 0.65) * specimen.width_m, d.uniform(0.35, 0.65) * specimen.height_m);

@@ -18,6 +18,8 @@
 //                            trial hides must not give the effect away. Rigid jaws of a wider radius were
 //                            tried first: on the 300-triangle reference mesh they grip whole
 //                            9 cm triangles or nothing, a change no smooth model follows.
+//   clamp_slip               the ply slips in the jaws by 0.1-1 mm per newton of pull along the
+//                            jaw faces (twin/clamp_slip_term.h)
 //   outside_library          the ply was folded in four once: two perpendicular creases
 //                            (sim_hw/crease.h) through a point near the middle, 40-80 deg each
 // The ranges are the lab's idea of realistic, not the analysis's: diagnose must not rely on them.
@@ -34,7 +36,7 @@
 
 namespace sim_hw {
 
-// The eight names above, in a fixed order.
+// The nine names above, in a fixed order.
 const std::vector<std::string>& blind_effect_names();
 
 struct HiddenEffect {

@@ -155,7 +155,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
   reference.set_marker_points(markers);
   if (config.adjust_reference) config.adjust_reference(reference);
   const twin::ClampSet clamps(reference.mesh(), trial.clamps);
-  if (truth.effects.clamp_grip_strength > 0.0) reference.set_clamp_grips(clamps);  // jaws that grip wider
+  reference.set_clamps_of_material_effects(clamps);  // jaws that grip wider, or slip
   const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());
   for (std::size_t s = 0; s < true_poses.size(); ++s) {

@@ -45,8 +45,8 @@ twin::SolveReport TrueSheet::load(const std::vector<HeldGrasp>& grasps) {
   // A quasi-static continuation from the flat sheet's grasp points took 10x longer at 2000
   // triangles (24.8 s against about 2 s) for the same start.
   twin::VecX x = twin::place_flat(model_.mesh(), placement_);
-  // Only when the material widens the jaws (see cell_twin.cc).
-  if (model_.material().effects.clamp_grip_strength > 0.0) model_.set_clamp_grips(set);
+  // Only for the clamp effects the material has (see cell_twin.cc).
+  model_.set_clamps_of_material_effects(set);
   twin::StaticSolver statics(model_);
   const twin::SolveReport report = statics.solve(set, held, x);
   if (!report.usable())
@@ -151,8 +151,8 @@ void TrueSheet::step(double dt_s) {
     // A new set of holding clamps; a fresh stepper takes each clamp's start from the sheet.
     try {
       clamps_ = std::make_unique<twin::ClampSet>(model_.mesh(), specs);
-      // Before the stepper builds its sparsity pattern; only when the material widens the jaws.
-      if (model_.material().effects.clamp_grip_strength > 0.0) model_.set_clamp_grips(*clamps_);
+      // Before the stepper builds its sparsity pattern; only for the material's clamp effects.
+      model_.set_clamps_of_material_effects(*clamps_);
       stepper_ = std::make_unique<twin::ImplicitStepper>(model_);
     } catch (const std::invalid_argument& e) {
       failure = e.what();

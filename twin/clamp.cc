@@ -69,9 +69,7 @@ Clamp::Clamp(const SheetMesh& mesh, const ClampSpec& spec) : spec_(spec) {
 }
 
 void Clamp::hold(const ClampPose& pose, VecX& x) const {
-  for (std::size_t k = 0; k < vertices_.size(); ++k) {
-    x.segment<3>(3 * vertices_[k]) = pose.position_m + pose.rotation.leftCols<2>() * offsets_m_[k];
-  }
+  for (std::size_t k = 0; k < vertices_.size(); ++k) x.segment<3>(3 * vertices_[k]) = held_position(static_cast<int>(k), pose);
 }
 
 Vec3 Clamp::material_point_position(const VecX& x) const {

@@ -45,6 +45,10 @@ class Clamp {
   const std::array<int, 3>& host_triangle() const { return host_triangle_; }
   // Writes the held positions of the gripped vertices into x (3n).
   void hold(const ClampPose& pose, VecX& x) const;
+  // Held position (m) of vertices()[k] at `pose`.
+  Vec3 held_position(int k, const ClampPose& pose) const {
+    return pose.position_m + pose.rotation.leftCols<2>() * offsets_m_[k];
+  }
   // Where the clamp's material point is in the sheet at positions x (m): where the clamp grips
   // when it closes on the sheet as it is.
   Vec3 material_point_position(const VecX& x) const;

@@ -87,6 +87,11 @@ VecX force_parameter_derivative(ShellModel& model, const DofMap& dofs, const Vec
   if (scale.logarithmic) {
     scale_parameter(plus, parameter, 1.0 + relative_step);
     scale_parameter(minus, parameter, 1.0 - relative_step);
+  } else if (parameter == MaterialParameter::kClampSlipCompliance) {
+    // The slip springs go as 1 / (c + c0) with c0 1e-5 of the parameter's scale: a
+    // forward step relative to c + c0 keeps the difference's error at O(step).
+    const double c = get_parameter(minus, parameter);
+    set_parameter(plus, parameter, c + relative_step * (c + ClampSlipTerm::kRigidJawCompliance_m_N));
   } else {
     // Effect parameters may sit at their bound (0: the effect absent), where a central
     // difference would step out of the valid range. Their energies are linear in them

@@ -24,7 +24,8 @@
 // the derivative with respect to the common value. The coordinate versions, d/dy = (dp/dy) d/dp
 // with y the search coordinate (log p, or p / scale for effect parameters), are what an
 // optimiser working in those coordinates wants. Effect parameters (model_effects.h) enter
-// their energies linearly and are differenced forward by relative_step times their scale.
+// their energies linearly and are differenced forward by relative_step times their scale; the
+// clamp slip compliance, which does not, by relative_step times c + c0 (clamp_slip_term.h).
 //
 // Not thread-safe with other users of the model: computing dg/dp sets the model's material to
 // the perturbed values and back (restored also when an exception passes through).

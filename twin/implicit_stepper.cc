@@ -94,15 +94,16 @@ SolveReport ImplicitStepper::step(VecX& x, VecX& v, double dt_s, const ClampSet&
 SolveReport ImplicitStepper::single_step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
                                          const std::vector<ClampPose>& poses,
                                          const StepOptions& options) {
-  model_.hold_clamp_grips(poses);
-  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  const DofMap dofs = model_.hold_clamps(clamps, poses);
   inertia_.set_step(x, v, dt_s);
   viscosity_.set_step(x, dt_s);
-  // Start from the inertial prediction; clamped vertices go to their poses.
+  // Start from the inertial prediction; clamped vertices go to their poses (slipping clamps'
+  // vertices are free and carry their slip along in the prediction).
   VecX next = x + dt_s * v;
-  clamps.hold(poses, next);
+  if (!model_.clamp_slip().has_clamps()) clamps.hold(poses, next);
   // Viscosity joins only when the material has some: its element loop is not free.
-  std::vector<const EnergyTerm*> terms = {&model_.membrane(), &model_.bending(), &model_.gravity(), &inertia_};
+  std::vector<const EnergyTerm*> terms = model_.potential_terms();
+  terms.push_back(&inertia_);
   if (viscosity_.active()) terms.push_back(&viscosity_);
   SolveReport report =
       newton_.minimize(Objective(terms), dofs, free_weight_N(model_, dofs), next, options.newton);

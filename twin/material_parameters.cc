@@ -24,6 +24,7 @@ double get_parameter(const Material& m, MaterialParameter parameter) {
     case MaterialParameter::kRelaxationTime: return m.effects.relaxation_time_s;
     case MaterialParameter::kClampGripStrength: return m.effects.clamp_grip_strength;
     case MaterialParameter::kClampGripWidth: return m.effects.clamp_grip_width_m;
+    case MaterialParameter::kClampSlipCompliance: return m.effects.clamp_slip_compliance_m_N;
   }
   throw std::invalid_argument("get_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -52,6 +53,7 @@ void set_parameter(Material& m, MaterialParameter parameter, double value) {
     case MaterialParameter::kRelaxationTime: m.effects.relaxation_time_s = value; return;
     case MaterialParameter::kClampGripStrength: m.effects.clamp_grip_strength = value; return;
     case MaterialParameter::kClampGripWidth: m.effects.clamp_grip_width_m = value; return;
+    case MaterialParameter::kClampSlipCompliance: m.effects.clamp_slip_compliance_m_N = value; return;
   }
   throw std::invalid_argument("set_parameter: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -90,6 +92,7 @@ std::string_view parameter_name(MaterialParameter parameter) {
     case MaterialParameter::kRelaxationTime: return "relaxation_time_s";
     case MaterialParameter::kClampGripStrength: return "clamp_grip_strength";
     case MaterialParameter::kClampGripWidth: return "clamp_grip_width_m";
+    case MaterialParameter::kClampSlipCompliance: return "clamp_slip_compliance_m_N";
   }
   throw std::invalid_argument("parameter_name: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));
@@ -118,6 +121,8 @@ ParameterScale parameter_scale(MaterialParameter parameter) {
     // sheet the twin simulates.
     case MaterialParameter::kClampGripStrength: return {false, 0.1, 0.0, 10.0};
     case MaterialParameter::kClampGripWidth: return {true, 1.0, 0.005, kMaxClampGripWidth_m};  // m
+    // 1 cm of slip per newton: a clamp holding a 1 m ply by a corner carries a few newtons.
+    case MaterialParameter::kClampSlipCompliance: return {false, 0.01, 0.0, kMaxClampSlipCompliance_m_N};  // m/N
   }
   throw std::invalid_argument("parameter_scale: unknown MaterialParameter " +
                               std::to_string(static_cast<int>(parameter)));

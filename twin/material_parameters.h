@@ -21,6 +21,7 @@
 //   kRelaxationTime      tau (s)                      "relaxation_time_s"
 //   kClampGripStrength   grip strength s (1)          "clamp_grip_strength"
 //   kClampGripWidth      grip width w (m)             "clamp_grip_width_m"
+//   kClampSlipCompliance slip per pull c (m/N)        "clamp_slip_compliance_m_N"
 //
 // Search coordinates. Optimisers and derivatives work in a coordinate y per parameter: y = log p
 // for the positive ones (stiffnesses span decades, and a relative step means the same
@@ -53,9 +54,10 @@ enum class MaterialParameter {
   kRelaxationTime,
   kClampGripStrength,
   kClampGripWidth,
+  kClampSlipCompliance,
 };
 
-inline constexpr std::array<MaterialParameter, 17> kAllMaterialParameters = {
+inline constexpr std::array<MaterialParameter, 18> kAllMaterialParameters = {
     MaterialParameter::kTensile,          MaterialParameter::kTensileU,
     MaterialParameter::kTensileV,         MaterialParameter::kShear,
     MaterialParameter::kBending,          MaterialParameter::kBendingU,
@@ -64,7 +66,7 @@ inline constexpr std::array<MaterialParameter, 17> kAllMaterialParameters = {
     MaterialParameter::kRestCurvatureUV,  MaterialParameter::kBendingStiffening,
     MaterialParameter::kMarkerMass,       MaterialParameter::kRelaxationFraction,
     MaterialParameter::kRelaxationTime,   MaterialParameter::kClampGripStrength,
-    MaterialParameter::kClampGripWidth};
+    MaterialParameter::kClampGripWidth,   MaterialParameter::kClampSlipCompliance};
 
 struct ParameterScale {
   bool logarithmic = true;  // y = log p; else y = p / scale

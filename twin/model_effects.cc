@@ -31,7 +31,8 @@ bool ModelEffects::has_rest_curvature() const {
 bool ModelEffects::any() const {
   return has_rest_curvature() || bending_stiffening_m2 != 0.0 || marker_mass_kg != 0.0 ||
          relaxation_fraction != 0.0 || relaxation_time_s != kDefaults.relaxation_time_s ||
-         clamp_grip_strength != 0.0 || clamp_grip_width_m != kDefaults.clamp_grip_width_m;
+         clamp_grip_strength != 0.0 || clamp_grip_width_m != kDefaults.clamp_grip_width_m ||
+         clamp_slip_compliance_m_N != 0.0;
 }
 
 double ModelEffects::relaxation_factor(double age_s) const {
@@ -64,10 +65,14 @@ void ModelEffects::validate(const std::string& source) const {
   if (!(clamp_grip_width_m > 0.0 && clamp_grip_width_m <= kMaxClampGripWidth_m)) {
     fail(source, "clamp_grip.width_m", clamp_grip_width_m, "in (0, 0.15] (m)");
   }
+  if (!(clamp_slip_compliance_m_N >= 0.0 && clamp_slip_compliance_m_N <= kMaxClampSlipCompliance_m_N)) {
+    fail(source, "clamp_slip.compliance_m_N", clamp_slip_compliance_m_N, "in [0, 0.1] (m/N)");
+  }
 }
 
 ModelEffects model_effects_from_json(const JsonField& block) {
-  block.only_keys({"rest_curvature_1_m", "bending_stiffening_m2", "marker_mass_kg", "relaxation", "clamp_grip"});
+  block.only_keys({"rest_curvature_1_m", "bending_stiffening_m2", "marker_mass_kg", "relaxation", "clamp_grip",
+                   "clamp_slip"});
   ModelEffects e;
   if (auto k = block.optional("rest_curvature_1_m")) {
     k->only_keys({"uu", "vv", "uv"});
@@ -81,6 +86,10 @@ ModelEffects model_effects_from_json(const JsonField& block) {
     c->only_keys({"strength", "width_m"});
     if (auto x = c->optional("strength")) e.clamp_grip_strength = x->non_negative("(dimensionless)");
     if (auto x = c->optional("width_m")) e.clamp_grip_width_m = x->positive("m");
+  }
+  if (auto c = block.optional("clamp_slip")) {
+    c->only_keys({"compliance_m_N"});
+    if (auto x = c->optional("compliance_m_N")) e.clamp_slip_compliance_m_N = x->non_negative("m/N");
   }
   if (auto r = block.optional("relaxation")) {
     r->only_keys({"fraction", "time_s"});
@@ -107,6 +116,9 @@ nlohmann::json model_effects_to_json(const ModelEffects& e) {
   if (e.marker_mass_kg != kDefaults.marker_mass_kg) j["marker_mass_kg"] = e.marker_mass_kg;
   if (e.clamp_grip_strength != kDefaults.clamp_grip_strength || e.clamp_grip_width_m != kDefaults.clamp_grip_width_m) {
     j["clamp_grip"] = {{"strength", e.clamp_grip_strength}, {"width_m", e.clamp_grip_width_m}};
+  }
+  if (e.clamp_slip_compliance_m_N != kDefaults.clamp_slip_compliance_m_N) {
+    j["clamp_slip"] = {{"compliance_m_N", e.clamp_slip_compliance_m_N}};
   }
   if (e.relaxation_fraction != kDefaults.relaxation_fraction ||
       e.relaxation_time_s != kDefaults.relaxation_time_s) {

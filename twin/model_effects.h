@@ -24,6 +24,10 @@
 //                               too, with a strength s (1: as firmly as the clamp's own patch,
 //                               0: not at all; clamp_grip_term.h). Only models that know the
 //                               clamps (ShellModel::set_clamp_grips) apply it.
+//   clamp slip                  the ply slides in the jaws: each clamp's patch gives way along
+//                               the jaw faces by c (m/N) per newton of the pull it holds
+//                               (clamp_slip_term.h; 0: the jaws hold it rigidly). Only models
+//                               that know the clamps (ShellModel::set_clamp_slips) apply it.
 // Orthotropic stiffness (warp != weft) is not here: the material has had per-direction tensile
 // stiffness and bending rigidity from the start.
 
@@ -37,6 +41,8 @@ class JsonField;
 
 // The widest grip the twin represents (m): springs are built out to this beyond each radius.
 inline constexpr double kMaxClampGripWidth_m = 0.15;
+// The loosest jaws the twin represents (m/N): 10 cm of slip per newton of pull.
+inline constexpr double kMaxClampSlipCompliance_m_N = 0.1;
 
 struct ModelEffects {
   double rest_curvature_uu_1_m = 0.0;  // 1/m
@@ -48,6 +54,7 @@ struct ModelEffects {
   double relaxation_time_s = 60.0;     // tau, s, > 0 (irrelevant while the fraction is 0)
   double clamp_grip_strength = 0.0;    // s, >= 0 (0: the effect absent)
   double clamp_grip_width_m = 0.05;    // w, m, in (0, kMaxClampGripWidth_m] (irrelevant while s is 0)
+  double clamp_slip_compliance_m_N = 0.0;  // c, m/N, in [0, kMaxClampSlipCompliance_m_N] (0: absent)
 
   bool has_rest_curvature() const;
   // True when any effect is present (a field away from its default).

@@ -39,8 +39,7 @@ double MarkerTetherTerm::element_energy(int e, const ElementVector& xe, ElementV
 SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
                                   const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
                                   const std::vector<Vec3>& observed_m, VecX& x) {
-  model.hold_clamp_grips(poses);
-  const DofMap dofs(clamps.fixed_vertices(model.vertex_count(), poses));
+  const DofMap dofs = model.hold_clamps(clamps, poses);
   const double force_scale_N = free_weight_N(model, dofs);
   MarkerTetherTerm tether(markers, observed_m, model.vertex_count());
   std::vector<const EnergyTerm*> terms = model.potential_terms();

@@ -38,8 +38,10 @@ ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gra
       membrane_(mesh_, material.membrane_stiffness()),
       bending_(mesh_, material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm),
       gravity_(masses_, gravity_m_s2),
-      grip_(mesh_.vertex_count()) {
+      grip_(mesh_.vertex_count()),
+      slip_(mesh_.vertex_count()) {
   grip_.set_grip(material_.effects.clamp_grip_strength, material_.effects.clamp_grip_width_m);
+  slip_.set_compliance(material_.effects.clamp_slip_compliance_m_N);
   apply_bending_effects(material_.effects);
   // A relaxing material starts fully relaxed (the age is unknown until someone sets it).
   if (stiffness_factor() != 1.0) update_stiffness(material_, load_age_s_);
@@ -76,10 +78,25 @@ void ShellModel::set_material(const Material& material) {
   apply_bending_effects(material.effects);  // cannot throw for a validated material
   material_ = material;
   grip_.set_grip(material.effects.clamp_grip_strength, material.effects.clamp_grip_width_m);
+  slip_.set_compliance(material.effects.clamp_slip_compliance_m_N);
   update_masses();
 }
 
 void ShellModel::set_clamp_grips(const ClampSet& clamps) { grip_.set_clamps(mesh_, clamps); }
+
+void ShellModel::set_clamp_slips(const ClampSet& clamps) { slip_.set_clamps(mesh_, clamps); }
+
+void ShellModel::set_clamps_of_material_effects(const ClampSet& clamps) {
+  if (material_.effects.clamp_grip_strength > 0.0) set_clamp_grips(clamps);
+  if (material_.effects.clamp_slip_compliance_m_N > 0.0) set_clamp_slips(clamps);
+}
+
+DofMap ShellModel::hold_clamps(const ClampSet& clamps, const std::vector<ClampPose>& poses) const {
+  grip_.set_engaged(poses);
+  slip_.set_poses(poses);
+  if (slip_.has_clamps()) return DofMap(std::vector<char>(vertex_count(), 0));
+  return DofMap(clamps.fixed_vertices(vertex_count(), poses));
+}
 
 void ShellModel::set_marker_points(std::vector<MaterialPointLocation> markers) {
   for (std::size_t i = 0; i < markers.size(); ++i) {

@@ -14,14 +14,18 @@
 //     shear and bending stiffness are the material's times effects.relaxation_factor(age).
 //     Whoever solves or differentiates a stage sets its age first (trial_simulation.h).
 //   - clamp grip: which clamps hold the sheet (set_clamp_grips, before any solver is
-//     built on the model) and which of them are engaged now (hold_clamp_grips, which the
+//     built on the model) and which of them are engaged now (hold_clamps, which the
 //     solvers call with the poses they are given). Without clamps set the effect has nothing
 //     to act on.
+//   - clamp slip: likewise (set_clamp_slips). With it the clamps' vertices are no longer held
+//     fixed: springs (clamp_slip_term.h) hold them, so hold_clamps frees them.
 
 #include <memory>
 
 #include "twin/bending_term.h"
 #include "twin/clamp_grip_term.h"
+#include "twin/clamp_slip_term.h"
+#include "twin/dof_map.h"
 #include "twin/gravity_term.h"
 #include "twin/material.h"
 #include "twin/material_point.h"
@@ -61,10 +65,20 @@ class ShellModel {
   // never has the effect skip this (the cell, the fake world, `twin solve`); identification
   // registers always, as a refit may switch the effect on.
   void set_clamp_grips(const ClampSet& clamps);
-  // Which of them grip now: every solve and differentiation with poses calls this first. No
-  // clamps set: nothing to do; a different clamp count throws std::invalid_argument.
-  void hold_clamp_grips(const std::vector<ClampPose>& poses) const { grip_.set_engaged(poses); }
+  // The clamps whose jaws the clamp-slip effect lets give (clamp_slip_term.h), with the same
+  // rules as set_clamp_grips. Identification registers always: at compliance 0 the springs
+  // hold the patches within 0.1 micrometre per newton of where rigid clamps would.
+  void set_clamp_slips(const ClampSet& clamps);
+  // Every solve and differentiation with poses calls this first: it tells the clamp effects
+  // which clamps are engaged and where, and returns which vertices the solver moves (those of
+  // engaged clamps are held fixed, unless slip springs hold them). A clamp count that differs
+  // from the registered clamps' throws std::invalid_argument.
+  DofMap hold_clamps(const ClampSet& clamps, const std::vector<ClampPose>& poses) const;
+  // set_clamp_grips and set_clamp_slips for the effects the material has (those it lacks get
+  // no springs): for callers whose material does not change its effects.
+  void set_clamps_of_material_effects(const ClampSet& clamps);
   const ClampGripTerm& clamp_grip() const { return grip_; }
+  const ClampSlipTerm& clamp_slip() const { return slip_; }
 
   const SheetMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
@@ -78,7 +92,9 @@ class ShellModel {
   BendingTerm& bending() { return bending_; }
   const GravityTerm& gravity() const { return gravity_; }
   // The potential-energy terms, in a fixed order.
-  std::vector<const EnergyTerm*> potential_terms() const { return {&membrane_, &bending_, &gravity_, &grip_}; }
+  std::vector<const EnergyTerm*> potential_terms() const {
+    return {&membrane_, &bending_, &gravity_, &grip_, &slip_, &slip_.coupling()};
+  }
 
  private:
   void apply_bending_effects(const ModelEffects& effects);
@@ -95,6 +111,7 @@ class ShellModel {
   BendingTerm bending_;
   GravityTerm gravity_;
   ClampGripTerm grip_;
+  ClampSlipTerm slip_;
 };
 
 // Lumped masses (kg): a third of each triangle's mass to each of its vertices.

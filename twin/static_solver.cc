@@ -36,8 +36,7 @@ double free_weight_N(const ShellModel& model, const DofMap& dofs) {
 
 SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampPose>& poses,
                                 VecX& x, const NewtonOptions& options, OnFailure on_failure) {
-  model_.hold_clamp_grips(poses);
-  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  const DofMap dofs = model_.hold_clamps(clamps, poses);
   VecX trial = x;
   clamps.hold(poses, trial);
   SolveReport report = newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), trial, options);
@@ -52,9 +51,8 @@ SolveReport StaticSolver::solve(const ClampSet& clamps, const std::vector<ClampP
 
 SolveReport StaticSolver::settle(const ClampSet& clamps, const std::vector<ClampPose>& poses,
                                  VecX& x, const NewtonOptions& options) {
-  model_.hold_clamp_grips(poses);
   const auto start = std::chrono::steady_clock::now();
-  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  const DofMap dofs = model_.hold_clamps(clamps, poses);
   const double force_scale_N = free_weight_N(model_, dofs);
   VecX current = x;
   clamps.hold(poses, current);
@@ -132,11 +130,19 @@ namespace twin {
 SolveReport StaticSolver::solve_from_equilibrium(const ClampSet& clamps,
                                                  const std::vector<ClampPose>& poses, VecX& x,
                                                  const NewtonOptions& options) {
-  model_.hold_clamp_grips(poses);
-  const DofMap dofs(clamps.fixed_vertices(model_.vertex_count(), poses));
+  const DofMap dofs = model_.hold_clamps(clamps, poses);
   VecX moved = x;
   clamps.hold(poses, moved);
-  VecX trial = newton_.tangent_predictor(objective_, dofs, x, moved);
+  // With slipping clamps no vertex is held, but the prediction holds the clamps' vertices at
+  // their new poses as rigid jaws would: a hanging sheet has several equilibria, and the path
+  // is then the rigid clamps' one up to the slip, which the Newton solve below adds. (Newton's
+  // own first step from the old equilibrium, pulled by the slip springs, is a prediction too,
+  // but capped and line-searched: it took other branches, moving markers by up to 20 mm in
+  // the lab's trials at zero compliance.)
+  VecX trial = model_.clamp_slip().has_clamps()
+                   ? held_predictor_.tangent_predictor(
+                         objective_, DofMap(clamps.fixed_vertices(model_.vertex_count(), poses)), x, moved)
+                   : newton_.tangent_predictor(objective_, dofs, x, moved);
   SolveReport report = newton_.minimize(objective_, dofs, free_weight_N(model_, dofs), trial, options);
   if (!report.usable()) {
     // The prediction can overshoot where the response is strongly nonlinear (a fold snapping

@@ -51,6 +51,9 @@ class StaticSolver {
   const ShellModel& model_;
   Objective objective_;
   NewtonSolver newton_;
+  // Tangent predictions with the clamps' vertices held, for models whose clamps slip (their
+  // own solves move every vertex): a second solver keeps both sparsity analyses.
+  NewtonSolver held_predictor_;
   InertiaTerm proximal_;
   NewtonSolver settle_newton_;
 };

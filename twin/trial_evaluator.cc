@@ -69,6 +69,7 @@ TrialEvaluator::TrialEvaluator(Trial trial, int twin_triangles, const Material& 
       ages_s_(stage_load_ages_s(trial_.stages)) {
   model_->set_marker_points(*markers_);  // their mass, when the material gives them one
   model_->set_clamp_grips(clamps_);       // their width, when the material widens them
+  model_->set_clamp_slips(clamps_);       // their give, when the material lets them slip
 }
 
 TrialEvaluator::~TrialEvaluator() = default;
@@ -203,10 +204,9 @@ void TrialEvaluator::differentiate(TrialFit& fit, const std::vector<MaterialPara
     if (paired.empty()) continue;
     // K and dg/dp of this stage's equilibrium: the model at this stage's load age.
     model_->set_load_age_s(ages_s_[s]);
-    model_->hold_clamp_grips(stage_poses(static_cast<int>(s)));
+    const DofMap dofs = model_->hold_clamps(clamps_, stage_poses(static_cast<int>(s)));
     auto& sensitivity = sensitivities_[s];
     if (!sensitivity) {
-      const DofMap dofs(clamps_.fixed_vertices(model_->vertex_count(), stage_poses(static_cast<int>(s))));
       sensitivity = std::make_unique<EquilibriumSensitivity>(*model_, dofs, stage.x);
     } else {
       sensitivity->update(stage.x);

@@ -91,9 +91,9 @@ TEST_CASE("twin diagnose finds no missing effect in an isotropic sheet", "[diagn
   CHECK_FALSE(std::filesystem::exists(dir / "out" / "material_augmented.json"));
   CHECK(run.verdict["noise_sigma_mm"].get<double>() == Approx(0.3).epsilon(0.15));
   // Bad input: exit 1, naming what is wrong.
-  const Run bad = diagnose(dir, "--effects orthotropic_stiffness,clamp_slip");
+  const Run bad = diagnose(dir, "--effects orthotropic_stiffness,clamp_creep");
   CHECK(bad.status != 0);
-  CHECK(bad.output.find("clamp_slip") != std::string::npos);
+  CHECK(bad.output.find("clamp_creep") != std::string::npos);
 }
 
 }  // namespace

@@ -88,7 +88,7 @@ TEST_CASE("columns without sensitivity or inside the base span add no dof", "[di
 }
 
 TEST_CASE("the effect library names its candidates and their parameters", "[diagnosis][effects]") {
-  REQUIRE(dx::effect_library().size() == 6);
+  REQUIRE(dx::effect_library().size() == 7);
   const dx::CandidateEffect& ortho = dx::find_effect("orthotropic_stiffness");
   CHECK(ortho.score_dof() == 2);
   CHECK(ortho.added_count() == 2);
@@ -96,8 +96,12 @@ TEST_CASE("the effect library names its candidates and their parameters", "[diag
   const dx::CandidateEffect& relax = dx::find_effect("viscoelastic_relaxation");
   CHECK(relax.score_dof() == 1);   // the fraction, tau at its default
   CHECK(relax.added_count() == 2);  // the refit frees tau too
-  CHECK_THROWS_WITH(dx::find_effect("clamp_slip"), Catch::Contains("clamp_slip") && Catch::Contains("marker_mass"));
-  CHECK(dx::select_effects("").size() == 6);
+  CHECK_THROWS_WITH(dx::find_effect("clamp_creep"), Catch::Contains("clamp_creep") && Catch::Contains("clamp_slip"));
+  CHECK(dx::select_effects("").size() == 7);
+  const dx::CandidateEffect& slip = dx::find_effect("clamp_slip");
+  CHECK(slip.score_dof() == 1);
+  CHECK(slip.added_count() == 1);
+  CHECK(slip.score_parameters.back() == twin::MaterialParameter::kClampSlipCompliance);
   const dx::CandidateEffect& grip = dx::find_effect("clamp_grip");
   CHECK(grip.score_dof() == 1);
   CHECK(grip.added_count() == 2);  // the refit frees the width too

@@ -79,10 +79,10 @@ TEST_CASE("clamp grip: absent at zero strength and for a released clamp; no forc
   CHECK(wide.model.clamp_grip().evaluate(bent, nullptr, nullptr, HessianMode::kExact) > 0.0);
   std::vector<ClampPose> released(1);
   released[0].engaged = false;
-  wide.model.hold_clamp_grips(released);
+  (void)wide.model.hold_clamps(wide.clamps, released);
   CHECK(wide.model.clamp_grip().evaluate(bent, nullptr, nullptr, HessianMode::kExact) == 0.0);
-  wide.model.hold_clamp_grips(wide.poses);
-  CHECK_THROWS_AS(wide.model.hold_clamp_grips(std::vector<ClampPose>(2)), std::invalid_argument);
+  (void)wide.model.hold_clamps(wide.clamps, wide.poses);
+  CHECK_THROWS_AS(wide.model.hold_clamps(wide.clamps, std::vector<ClampPose>(2)), std::invalid_argument);
 
   // The springs pull towards the clamp's rigid patch extended: a rigid motion of the flat
   // sheet stretches none of them.

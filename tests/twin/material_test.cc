@@ -53,10 +53,12 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   CHECK_FALSE(material_to_json(material_from_json(j, "plain.json")).contains("effects"));
   j["effects"] = json::parse(R"({"rest_curvature_1_m": {"uu": 1.5, "uv": -0.25},
     "bending_stiffening_m2": 0.02, "marker_mass_kg": 0.0004,
-    "relaxation": {"fraction": 0.3, "time_s": 120}, "clamp_grip": {"strength": 0.8, "width_m": 0.07}})");
+    "relaxation": {"fraction": 0.3, "time_s": 120}, "clamp_grip": {"strength": 0.8, "width_m": 0.07},
+    "clamp_slip": {"compliance_m_N": 0.004}})");
   const Material m = material_from_json(j, "roll.json");
   CHECK(m.effects.clamp_grip_strength == 0.8);
   CHECK(m.effects.clamp_grip_width_m == 0.07);
+  CHECK(m.effects.clamp_slip_compliance_m_N == 0.004);
   CHECK(m.effects.rest_curvature_uu_1_m == 1.5);
   CHECK(m.effects.rest_curvature_vv_1_m == 0.0);
   CHECK(m.effects.rest_curvature_uv_1_m == -0.25);
@@ -71,6 +73,7 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   CHECK(again.effects.marker_mass_kg == 0.0004);
   CHECK(again.effects.clamp_grip_width_m == 0.07);
   CHECK(again.effects.clamp_grip_strength == 0.8);
+  CHECK(again.effects.clamp_slip_compliance_m_N == 0.004);
 
   auto rejects = [&](const char* effects, const char* field) {
     json bad = composite();
@@ -91,6 +94,9 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   rejects(R"({"clamp_grip": {"width_m": 0.5}})", "width_m");
   rejects(R"({"clamp_grip": {"strength": -1}})", "strength");
   rejects(R"({"clamp_grip": {"jaws": 2}})", "jaws");
+  rejects(R"({"clamp_slip": {"compliance_m_N": 0.5}})", "compliance_m_N");
+  rejects(R"({"clamp_slip": {"compliance_m_N": -0.001}})", "compliance_m_N");
+  rejects(R"({"clamp_slip": {"friction": 0.3}})", "friction");
   rejects(R"({"rest_curvature_1_m": {"uu": "a"}})", "uu");
 }
 

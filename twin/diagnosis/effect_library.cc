@@ -51,6 +51,11 @@ const std::vector<CandidateEffect>& effect_library() {
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kClampGripStrength},
                  CandidateEffect::Needs::kNothing});
+    l.push_back({"clamp_slip", "the ply slides in the clamps' jaws: each patch gives way along the jaw faces under its pull",
+                 {P::kTensile, P::kShear, P::kBending, P::kClampSlipCompliance},
+                 3,
+                 {P::kTensile, P::kShear, P::kBending, P::kClampSlipCompliance},
+                 CandidateEffect::Needs::kNothing});
     return l;
   }();
   return library;

@@ -46,7 +46,7 @@ struct CandidateEffect {
 const std::vector<MaterialParameter>& base_parameters();
 
 // The candidates, in a fixed order: orthotropic_stiffness, rest_curvature, nonlinear_bending,
-// marker_mass, viscoelastic_relaxation, clamp_grip.
+// marker_mass, viscoelastic_relaxation, clamp_grip, clamp_slip.
 const std::vector<CandidateEffect>& effect_library();
 
 // The candidate named `name`; throws std::invalid_argument quoting it and listing the names.

@@ -38,7 +38,7 @@ int solve(const std::string& scenario_path, const std::string& out_dir, bool ver
   const Scenario scenario = read_scenario_file(scenario_path);
   ShellModel model(scenario.mesh, scenario.material);
   const ClampSet clamps(model.mesh(), scenario.clamps);
-  if (model.material().effects.clamp_grip_strength > 0.0) model.set_clamp_grips(clamps);
+  model.set_clamps_of_material_effects(clamps);
   fmt::print("scenario  {}\nsheet     {}, {} vertices, {:.3f} kg\nmaterial  {}: Y {:.4g}/{:.4g} N/m, "
              "G {:.4g} N/m, D {:.4g}/{:.4g} N*m{}, {:.4g} kg/m^2\n",
              scenario_path, scenario.mesh_description, model.vertex_count(), model.total_mass_kg(),
