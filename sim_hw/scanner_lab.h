@@ -4,8 +4,7 @@
 //
 // Protocol: 17 x 17 raised markers; four clamps, one per edge, at distinct distances from the
 // corners; stage 1 holds the sheet slack and roughly level; stages 2-4 each move a different
-// clamp up (and toward the centre) by at most 350 mm, stopping where the sheet goes taut;
-// stage 5 releases a clamp. Observations:
+// clamp up (and toward the centre) by at most 350 mm; stage 5 releases a clamp. Observations:
 // per marker its position with scanner noise, markers under a closed clamp hidden (NaN);
 // clamp positions as a contact probe measures them (small noise); optionally the raw scan
 // around each seen marker (see marker_scan.h); per stage when its clamps stopped moving and
@@ -15,7 +14,6 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -53,16 +51,6 @@ struct LabTrial {
   std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
   std::vector<twin::ClampPose> true_stage1_poses;
 };
-
-// The protocol alone, as make_lab_trial draws it first from its seed's generator: the clamps on
-// the sheet (material points, jaw radius) and their true poses per stage. No stage puts two
-// engaged clamps farther apart than their material points are on the sheet (a move stops where
-// the sheet goes taut).
-struct LabProtocol {
-  std::vector<twin::ClampSpec> clamps;
-  std::vector<std::vector<twin::ClampPose>> stages;
-};
-LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng);
 
 // Throws std::runtime_error if the reference simulation fails (naming the stage).
 LabTrial make_lab_trial(const ScannerLabConfig& config);
