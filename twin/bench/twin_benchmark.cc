@@ -24,6 +24,7 @@
 
 #include <fmt/format.h>
 
+#include "twin/bench/benchmark_sheet.h"
 #include "twin/implicit_stepper.h"
 #include "twin/static_solver.h"
 
@@ -31,8 +32,6 @@ namespace {
 
 using namespace twin;
 using Clock = std::chrono::steady_clock;
-
-constexpr double kWidth = 1.17, kHeight = 0.975;
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -45,33 +44,12 @@ double percentile(std::vector<double> v, double p) {
 
 int run_case(int triangles, int threads, int steps, bool converged_too) {
   omp_set_num_threads(threads);
-  Material material;
-  material.name = "benchmark composite";
-  material.surface_density_kg_m2 = 0.3;
-  material.tensile_stiffness_u_N_m = material.tensile_stiffness_v_N_m = 5000.0;
-  material.shear_stiffness_N_m = 5000.0;
-  material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 1e-3;
-  material.poisson_ratio = 0.3;
-  material.tensile_viscosity_Ns_m = material.shear_viscosity_Ns_m = 5.0;
-  const ShellModel model(
-      make_rectangular_sheet(kWidth, kHeight, edge_length_for_triangle_count(kWidth, kHeight, triangles)),
-      material);
-  // Clamps at distinct distances from the corners; they hold the sheet 10 % closer to its
-  // centre than the flat sheet, so it sags.
-  const std::vector<ClampSpec> specs = {{"A", Vec2(0.10, 0.05), 0.02},
-                                        {"B", Vec2(kWidth - 0.05, 0.15), 0.02},
-                                        {"C", Vec2(kWidth - 0.20, kHeight - 0.05), 0.02},
-                                        {"D", Vec2(0.05, kHeight - 0.30), 0.02}};
-  const ClampSet clamps(model.mesh(), specs);
-  SheetPlacement placement;
-  placement.origin_m = Vec3(0.0, 0.0, 1.0);
-  const Vec3 centre = placement.to_world(Vec2(kWidth / 2, kHeight / 2));
-  std::vector<ClampPose> poses(specs.size());
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    poses[i].position_m = centre + 0.9 * (placement.to_world(specs[i].material_point_m) - centre);
-  }
+  const bench::BenchmarkSheet sheet(triangles);
+  const ShellModel& model = sheet.model;
+  const ClampSet& clamps = sheet.clamps;
+  const std::vector<ClampPose>& poses = sheet.poses;
 
-  VecX x = place_flat(model.mesh(), placement);
+  VecX x = sheet.flat;
   StaticSolver statics(model);
   const auto static_start = Clock::now();
   const SolveReport equilibrium = statics.solve(clamps, poses, x);
@@ -86,14 +64,10 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
     StepFigures f;
     ImplicitStepper stepper(model);
     VecX xs = x, v = VecX::Zero(x.size());
-    std::vector<ClampPose> moving = poses;
-    const Vec3 a0 = poses[0].position_m;
     const double dt = 0.01;
     const int warm_up = 10;
     for (int s = 0; s < warm_up + steps; ++s) {
-      // Clamp A circles (radius 5 cm, 2 s period) so the sheet never settles.
-      const double t = (s + 1) * dt;
-      moving[0].position_m = a0 + 0.05 * Vec3(std::cos(M_PI * t) - 1.0, std::sin(M_PI * t), 0.0);
+      const std::vector<ClampPose> moving = sheet.circling_poses((s + 1) * dt);
       const auto t0 = Clock::now();
       const SolveReport r = stepper.step(xs, v, dt, clamps, moving, options);
       const double ms = 1e3 * seconds_since(t0);
@@ -145,7 +119,7 @@ int main(int argc, char** argv) {
 
   fmt::print("twin benchmark: sheet {} x {} m, 0.3 kg/m^2, Y 5000 N/m, G 5000 N/m, D 0.001 N*m, "
              "four clamps, dt 10 ms, {} timed steps; one process per case\n",
-             kWidth, kHeight, steps);
+             bench::kWidth_m, bench::kHeight_m, steps);
   std::fflush(stdout);
   int status = 0;
   for (int size : sizes) {
