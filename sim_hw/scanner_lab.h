@@ -4,7 +4,8 @@
 //
 // Protocol: 17 x 17 raised markers; four clamps, one per edge, at distinct distances from the
 // corners; stage 1 holds the sheet slack and roughly level; stages 2-4 each move a different
-// clamp up (and toward the centre) by at most 350 mm; stage 5 releases a clamp. Observations:
+// clamp up (and toward the centre) by at most 350 mm, stopping at most 5 mm past where the sheet
+// goes taut; stage 5 releases a clamp. Observations:
 // per marker its position with scanner noise, markers under a closed clamp hidden (NaN);
 // clamp positions as a contact probe measures them (small noise); optionally the raw scan
 // around each seen marker (see marker_scan.h); per stage when its clamps stopped moving and
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -51,6 +53,19 @@ struct LabTrial {
   std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
   std::vector<twin::ClampPose> true_stage1_poses;
 };
+
+// How far apart (m) a clamp move may pull two engaged clamps whose material points are
+// `sheet_distance_m` apart on the sheet: 1 mm short of what trial files may say
+// (twin::max_clamp_distance_m), so the probe's 50 um error never takes a written stage beyond.
+double lab_max_clamp_distance_m(double sheet_distance_m);
+
+// The protocol alone, as make_lab_trial draws it first from its seed's generator: the clamps on
+// the sheet (material points, jaw radius) and their true poses per stage.
+struct LabProtocol {
+  std::vector<twin::ClampSpec> clamps;
+  std::vector<std::vector<twin::ClampPose>> stages;
+};
+LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng);
 
 // Throws std::runtime_error if the reference simulation fails (naming the stage).
 LabTrial make_lab_trial(const ScannerLabConfig& config);

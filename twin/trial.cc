@@ -29,9 +29,7 @@ using ordered_json = nlohmann::ordered_json;
 constexpr double kOnSheetTolerance_m = 1e-6;
 // Mass and surface density must tell the same story within this fraction of mass / area.
 constexpr double kDensityTolerance = 0.05;
-// A sheet barely stretches: two engaged clamps may be at most this much farther apart in the
-// world than on the sheet (fraction of their material distance, plus a fixed allowance for
-// clamp placement and measurement error).
+// See max_clamp_distance_m.
 constexpr double kClampStretchFraction = 0.02;
 constexpr double kClampStretchAllowance_m = 0.005;
 // Bounds a grid before allocating it (a 1000 x 1000 grid is far beyond any scanned sheet).
@@ -226,7 +224,7 @@ void check_clamp_distances(const JsonField& f, const Trial& t, const TrialStage&
       if (!stage.poses[i].engaged || !stage.poses[j].engaged) continue;
       const double world_m = (stage.poses[i].position_m - stage.poses[j].position_m).norm();
       const double sheet_m = (t.clamps[i].material_point_m - t.clamps[j].material_point_m).norm();
-      if (world_m > sheet_m * (1.0 + kClampStretchFraction) + kClampStretchAllowance_m) {
+      if (world_m > max_clamp_distance_m(sheet_m)) {
         f.fail(fmt::format(
             "(stage '{}') put clamps '{}' and '{}' {:.4f} m apart in the world, but they are "
             "{:.4f} m apart on the sheet (at most {:g} % + {:g} mm more is possible)",
@@ -360,6 +358,10 @@ double Trial::density_kg_m2(double sheet_area_m2) const {
     throw std::invalid_argument(fmt::format("trial: sheet area must be positive, got {} m^2", sheet_area_m2));
   }
   return *mass_kg / sheet_area_m2;
+}
+
+double max_clamp_distance_m(double sheet_distance_m) {
+  return sheet_distance_m * (1.0 + kClampStretchFraction) + kClampStretchAllowance_m;
 }
 
 Trial read_trial(const std::string& directory) {

@@ -93,6 +93,11 @@ struct Trial {
 // mass / area by more than 5 %, markers or clamps off the sheet.
 Trial read_trial(const std::string& directory);
 
+// The farthest apart (m) two engaged clamps may be in a stage of a trial file when their
+// material points are `sheet_distance_m` apart on the sheet: a sheet barely stretches, so 2 %
+// more, plus 5 mm for clamp placement and measurement error. read_trial rejects stages beyond.
+double max_clamp_distance_m(double sheet_distance_m);
+
 // The trial's rest mesh: the rectangle meshed with about `target_triangles` triangles
 // (make_rectangular_sheet), or the given mesh file as it is.
 SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles);

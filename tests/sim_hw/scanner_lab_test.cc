@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
 
 namespace sim_hw {
@@ -113,6 +114,49 @@ TEST_CASE("the scanner lab is reproducible from its seed", "[sim_hw][lab]") {
   CHECK(a.scans_m[1] == b.scans_m[1]);
   CHECK((a.trial.clamps[0].material_point_m - c.trial.clamps[0].material_point_m).norm() > 0.0);
   CHECK(a.scans_m[1].size() > 40u * 200u);
+}
+
+// The protocol alone over many seeds (no simulation): moves stop within lab_max_clamp_distance_m
+// (inside what the trial reader accepts), and some do stop there, so the check below is not
+// vacuous. Seed 8003's second trial of the blind sets once put two clamps 22 mm beyond taut,
+// more than the trial reader accepts.
+TEST_CASE("the lab's clamp moves never go past what a trial file may say", "[sim_hw][lab]") {
+  const LabSpecimen specimen = lab_specimen("composite");
+  int taut_stages = 0;
+  for (std::uint64_t seed = 1; seed <= 2000; ++seed) {
+    std::mt19937_64 rng(seed);
+    const LabProtocol protocol = lab_protocol(specimen.width_m, specimen.height_m, rng);
+    REQUIRE(protocol.stages.size() == 5);
+    for (std::size_t s = 0; s < protocol.stages.size(); ++s) {
+      const auto& poses = protocol.stages[s];
+      bool taut = false;
+      for (std::size_t i = 0; i < poses.size(); ++i) {
+        for (std::size_t j = i + 1; j < poses.size(); ++j) {
+          if (!poses[i].engaged || !poses[j].engaged) continue;
+          const double world_m = (poses[i].position_m - poses[j].position_m).norm();
+          const double sheet_m = (protocol.clamps[i].material_point_m - protocol.clamps[j].material_point_m).norm();
+          if (world_m > lab_max_clamp_distance_m(sheet_m) + 1e-9) FAIL("seed " << seed << " stage " << s + 1 << ": clamps " << i << ", " << j
+                                                      << " " << world_m << " m apart, " << sheet_m << " m on the sheet");
+          taut = taut || world_m > lab_max_clamp_distance_m(sheet_m) - 1e-9;
+        }
+      }
+      taut_stages += taut ? 1 : 0;
+      if (s == 0 || s == 4) continue;
+      // Still one clamp moved each stage, and by a stage's worth (at least 10 cm).
+      int moved = 0;
+      for (std::size_t c = 0; c < poses.size(); ++c) {
+        const double d_m = (poses[c].position_m - protocol.stages[s - 1][c].position_m).norm();
+        if (d_m > 1e-9) {
+          ++moved;
+          CHECK(d_m > 0.10);
+        }
+      }
+      CHECK(moved == 1);
+    }
+  }
+  INFO(taut_stages << " of 10000 stages stopped at the limit");
+  CHECK(taut_stages > 0);
+  for (double sheet_m : {0.3, 1.0, 1.5}) CHECK(lab_max_clamp_distance_m(sheet_m) < twin::max_clamp_distance_m(sheet_m));
 }
 
 }  // namespace
