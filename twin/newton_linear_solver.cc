@@ -70,9 +70,8 @@ bool NewtonLinearSolver::preconditioned_cg(const VecX& rhs, double tolerance, in
 
 bool NewtonLinearSolver::solve(const Objective& objective, const VecX& x, const VecX& g_free,
                                HessianMode mode, const LinearSolverOptions& options,
-                               double tolerance, VecX& step, LinearSolveStats& stats,
-                               bool hessian_assembled) {
-  if (!hessian_assembled) objective.evaluate(x, nullptr, pattern_.get(), mode);
+                               double tolerance, VecX& step, LinearSolveStats& stats) {
+  objective.evaluate(x, nullptr, pattern_.get(), mode);
   stats.mode_used = mode;
   if (options.reuse_factorization && factor_valid_) {
     int iterations = 0;

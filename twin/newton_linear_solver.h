@@ -46,14 +46,9 @@ class NewtonLinearSolver {
 
   // step = -H^-1 g_free at x, H assembled in `mode` (or its fallbacks). False if no positive
   // definite system could be formed. `tolerance` is the CG relative tolerance to use.
-  // `hessian_assembled`: the caller already evaluated H at x in `mode` into hessian() (in the
-  // same pass as the energy and gradient, which shares the element work).
   bool solve(const Objective& objective, const VecX& x, const VecX& g_free, HessianMode mode,
              const LinearSolverOptions& options, double tolerance, VecX& step,
-             LinearSolveStats& stats, bool hessian_assembled = false);
-
-  // The pattern the Hessian is assembled into (valid after prepare()).
-  HessianPattern* hessian() { return pattern_.get(); }
+             LinearSolveStats& stats);
 
   // Forgets the factor (the next solve factorises), for example after a material change.
   void invalidate() { factor_valid_ = false; }

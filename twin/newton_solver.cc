@@ -77,21 +77,7 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
     return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
   };
 
-  // When the Hessian mode does not depend on the residual (one linearized step: always the
-  // projected one), the first evaluation also assembles the Hessian: the energy, gradient and
-  // Hessian share the per-element work (measured: one pass costs about as much as the Hessian
-  // alone, the gradient pass it replaces about 40 % of that).
-  const bool mode_known = options.exact_hessian_below <= 0.0 || std::isinf(options.exact_hessian_below);
-  const HessianMode known_mode = options.exact_hessian_below <= 0.0 ? HessianMode::kProjected : HessianMode::kExact;
-  bool hessian_current = false;
-  double energy;
-  if (mode_known) {
-    energy = objective.evaluate(x, &grad, linear_.hessian(), known_mode);
-    if (!std::isfinite(energy)) energy = std::numeric_limits<double>::infinity();
-    hessian_current = true;
-  } else {
-    energy = energy_at(x, &grad);
-  }
+  double energy = energy_at(x, &grad);
   double best_residual = std::numeric_limits<double>::infinity();
   int stalled = 0;
   for (report.iterations = 0;; ++report.iterations) {
@@ -115,9 +101,7 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
                                                                            : HessianMode::kProjected;
     LinearSolveStats stats;
     const double cg_tolerance = std::min(options.linear.cg_tolerance, std::sqrt(report.residual));
-    const bool solved = linear_.solve(objective, x, g, mode, options.linear, cg_tolerance, step, stats,
-                                      hessian_current && (!mode_known || mode == known_mode));
-    hessian_current = false;
+    const bool solved = linear_.solve(objective, x, g, mode, options.linear, cg_tolerance, step, stats);
     report.factorizations += stats.factorizations;
     if (!solved) return finish(SolveStatus::kIndefinite, "");
     const double slope = g.dot(step);  // J, negative for a descent direction
