@@ -16,6 +16,7 @@
 #include "cell/camera_set.h"
 #include "cell/cell_config.h"
 #include "cell/cell_messages.h"
+#include "cell/background_worker.h"
 #include "cell/cell_twin.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
@@ -119,6 +120,9 @@ class CellController {
   };
   std::vector<Release> releases_;
   std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;
+  // Runs the twin's step beside the tracker (cell_cycle.cc). Declared last, so it is destroyed
+  // (finishing any step it runs) before the twin is.
+  BackgroundWorker twin_worker_;
 };
 
 // Seconds on the steady clock (for deadlines).

@@ -1,8 +1,11 @@
-// CellController's cycle: cameras -> tracker -> publish -> twin step -> watchdog -> commands.
+// CellController's cycle: cameras -> (twin step beside tracker) -> publish -> watchdog -> commands.
 #include <fmt/format.h>
+
+#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 
 #include "cell/cell_controller.h"
 #include "cell/sheet_compare.h"
@@ -55,13 +58,19 @@ void CellController::update_releases(std::int64_t now_us) {
   }
 }
 
+// What the twin did this cycle: a step, or a fresh static equilibrium after a failure.
+struct TwinWork {
+  bool stepped = false;
+  TwinStepResult step;
+  std::string initialise_problem;  // of the re-initialisation, empty when it worked
+};
+
 CycleReport CellController::cycle() {
   const auto t0 = std::chrono::steady_clock::now();
   CycleReport report;
   report.cycle = ++status_.cycle;
   handle_bus(0);
 
-  // 1. Frames and tracking, from the twin's current prediction (when it has one).
   std::vector<drivers::DepthFrame> frames;
   cameras_.read_all(frames);
   report.frames = static_cast<int>(frames.size());
@@ -70,17 +79,45 @@ CycleReport CellController::cycle() {
   for (const auto& f : frames) newest_host_us = std::max(newest_host_us, f.host_time_us);
   const std::int64_t now_us = drivers::host_clock_us();
   const std::int64_t epoch_minus_host = drivers::utime_now() - now_us;
+
+  // The twin's prediction for this cycle's frames, kept: the twin steps on to the next cycle's
+  // while the tracker compares these frames with it.
+  const twin::VecX predicted = twin_ ? twin_->positions() : twin::VecX();
+
+  // 1. The twin: one step with the clamps where the grippers are (measured), or, after a
+  // failure, a fresh static equilibrium there. It needs nothing the tracker makes, so it runs on
+  // the worker thread beside the tracker (with the cell's OpenMP thread count): a cycle costs the
+  // longer of the two rather than their sum (a moving sheet's step is about half the tracker).
+  update_releases(now_us);
+  std::future<TwinWork> twin_work;
+  if (twin_) {
+    const bool step = twin_problem_.empty();
+    const int omp_threads = omp_get_max_threads();
+    twin_work = twin_worker_.submit([this, step, omp_threads, grasps = grasp_positions()] {
+      omp_set_num_threads(omp_threads);
+      TwinWork work;
+      work.stepped = step;
+      if (step) {
+        work.step = twin_->step(period_s(), grasps);
+      } else {
+        work.initialise_problem = twin_->initialise(grasps);
+      }
+      return work;
+    });
+  }
+
+  // 2. Tracking, from the twin's prediction (when it has one).
   if (twin_ok && !frames.empty()) {
-    last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), twin_->positions()));
+    last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), predicted));
     report.tracker_ms = last_track_.times.total_ms;
     report.tracked = last_track_.status == tracking::TrackStatus::kOk;
   }
   status_.tracker_ok = report.tracked;
 
-  // 2. Publish what the cycle saw and what the twin predicted for it.
+  // 3. Publish what the cycle saw and what the twin predicted for it.
   if (twin_ok) {
     bus_.publish(std::string(drivers::channels::kSheetPredicted),
-                 predicted_sheet(prediction_utime_, report.cycle, twin_->positions()));
+                 predicted_sheet(prediction_utime_, report.cycle, predicted));
   }
   if (report.tracked) {
     const std::int64_t frames_utime = newest_host_us + epoch_minus_host;
@@ -94,26 +131,23 @@ CycleReport CellController::cycle() {
   }
   publish_cameras(now_us);
 
-  // 3. The twin: one step with the clamps where the grippers are (measured), or, after a
-  // failure, a fresh static equilibrium there.
-  update_releases(now_us);
-  if (twin_) {
-    const std::vector<twin::Vec3> grasps = grasp_positions();
-    if (twin_problem_.empty()) {
-      const TwinStepResult r = twin_->step(period_s(), grasps);
-      report.twin_step_ms = r.step_ms;
-      report.twin_stepped = r.ok;
-      report.twin_substeps = r.substeps;
-      if (r.ok) {
+  // The twin's result.
+  if (twin_work.valid()) {
+    const TwinWork work = twin_work.get();
+    if (work.stepped) {
+      report.twin_step_ms = work.step.step_ms;
+      report.twin_stepped = work.step.ok;
+      report.twin_substeps = work.step.substeps;
+      if (work.step.ok) {
         prediction_utime_ = drivers::utime_now() + static_cast<std::int64_t>(1e6 * period_s());
       } else {
-        twin_problem_ = r.message;
+        twin_problem_ = work.step.message;
       }
-    } else if (std::string why = twin_->initialise(grasps); why.empty()) {
+    } else if (work.initialise_problem.empty()) {
       twin_problem_.clear();
       prediction_utime_ = drivers::utime_now();
     } else {
-      twin_problem_ = "re-initialisation failed: " + why;
+      twin_problem_ = "re-initialisation failed: " + work.initialise_problem;
     }
   }
 

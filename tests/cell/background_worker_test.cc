@@ -1,0 +1,55 @@
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "cell/background_worker.h"
+
+namespace cell {
+namespace {
+
+TEST_CASE("the background worker runs tasks in order on one other thread", "[cell][worker]") {
+  BackgroundWorker worker;
+  std::vector<int> order;  // touched by the worker only, read after the last future
+  std::vector<std::future<std::thread::id>> ran;
+  for (int i = 0; i < 20; ++i) {
+    ran.push_back(worker.submit([&order, i] {
+      std::this_thread::sleep_for(std::chrono::microseconds(100 * (i % 3)));
+      order.push_back(i);
+      return std::this_thread::get_id();
+    }));
+  }
+  const std::thread::id first = ran.front().get();
+  CHECK(first != std::this_thread::get_id());
+  for (std::size_t i = 1; i < ran.size(); ++i) CHECK(ran[i].get() == first);
+  REQUIRE(order.size() == 20u);
+  for (int i = 0; i < 20; ++i) CHECK(order[static_cast<std::size_t>(i)] == i);
+}
+
+TEST_CASE("a task's exception reaches its future and the worker goes on", "[cell][worker]") {
+  BackgroundWorker worker;
+  auto failing = worker.submit([]() -> int { throw std::runtime_error("step threw"); });
+  auto next = worker.submit([] { return 7; });
+  CHECK_THROWS_WITH(failing.get(), "step threw");
+  CHECK(next.get() == 7);
+}
+
+TEST_CASE("destroying the worker finishes the tasks already queued", "[cell][worker]") {
+  std::atomic<int> done{0};
+  {
+    BackgroundWorker worker;
+    for (int i = 0; i < 5; ++i) {
+      worker.submit([&done] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        ++done;
+      });
+    }
+  }
+  CHECK(done == 5);
+}
+
+}  // namespace
+}  // namespace cell
