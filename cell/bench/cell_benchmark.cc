@@ -134,7 +134,10 @@ int main(int argc, char** argv) {
                        cell.reason().empty() ? "" : ": ", cell.reason());
             last_state = r.state;
           }
-          if (since(phase_start) >= warmup_s) figures.add(r);
+          if (since(phase_start) >= warmup_s) {
+            figures.add(r);
+            if (r.tracked) figures.add_tracker_stages(cell.last_track().times);
+          }
           memory.poll(since(run_start));
           next += period;
           if (next < Clock::now()) next = Clock::now();  // late: the next cycle starts at once
@@ -147,6 +150,7 @@ int main(int argc, char** argv) {
         if (!gripper.empty()) cell.set_goal(gripper, hold);
         fmt::print("{}\n", figures.line(label, name));
         fmt::print("{}\n", figures.verdict(hz));
+        fmt::print("{}\n", figures.tracker_stages_line());
         std::fflush(stdout);
         if (figures.cycles() == 0) exit_code = 3;
       }

@@ -48,6 +48,26 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
       twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
 }
 
+void CycleFigures::add_tracker_stages(const tracking::StageTimes& t) {
+  stage_ms_["1 fusion"].push_back(t.fusion_ms);
+  stage_ms_["2 segmentation"].push_back(t.segmentation_ms);
+  stage_ms_["3 resample+index"].push_back(t.resample_ms);
+  stage_ms_["4 registration"].push_back(t.registration_ms);
+  stage_ms_["5 coverage"].push_back(t.coverage_ms);
+  stage_ms_["6 prediction_error"].push_back(t.prediction_error_ms);
+  stage_ms_["7 calibration"].push_back(t.calibration_ms);
+}
+
+std::string CycleFigures::tracker_stages_line() const {
+  std::string s = "tracker stages (median ms):";
+  for (const auto& [key, ms] : stage_ms_) {
+    const std::string name = key.substr(2);
+    s += name == "calibration" ? fmt::format(" {} p99 {:.1f}", name, percentile(ms, 0.99))
+                               : fmt::format(" {} {:.1f}", name, percentile(ms, 0.5));
+  }
+  return s;
+}
+
 std::string CycleFigures::verdict(double target_hz) const {
   const double rate = rate_hz(), p99 = percentile(latency_ms_, 0.99);
   // A rate within 2% of the target counts as met: the pacing loop starts late cycles at once,

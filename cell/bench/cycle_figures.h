@@ -17,18 +17,24 @@ inline constexpr double kLatencyTargetP99Ms = 50.0;  // the issue's target, ms
 class CycleFigures {
  public:
   void add(const cell::CycleReport& r);
+  // The tracker's stage times of a tracked cycle (the cell's last_track()).
+  void add_tracker_stages(const tracking::StageTimes& t);
   void count_sweep() { ++sweeps_; }
   int cycles() const { return cycles_; }
   double rate_hz() const;  // cycles per second between the first and the last added cycle
   std::string line(const std::string& label, const std::string& phase) const;
   // "target: ... met" or "target: ... NOT met by ...; dominant stage ...".
   std::string verdict(double target_hz) const;
+  // "tracker stages ...: fusion .. segmentation .. ..." as medians (calibration: p99, it runs
+  // every n-th cycle only).
+  std::string tracker_stages_line() const;
 
  private:
   int cycles_ = 0, tracked_ = 0, sweeps_ = 0;
   std::chrono::steady_clock::time_point first_, last_;
   std::vector<double> latency_ms_, tracker_ms_, twin_ms_, cycle_ms_;
   std::map<std::string, int> states_;
+  std::map<std::string, std::vector<double>> stage_ms_;
 };
 
 // The p-quantile (0..1, nearest rank) of v; 0 when empty.
