@@ -53,8 +53,13 @@ struct SurfaceRegistration::Solver {
   std::vector<std::pair<int, int>> off_diagonal;
   std::vector<std::uint8_t> border;  // 1 for a vertex on an edge of only one triangle
   Eigen::SparseMatrix<double> system;
-  // CHOLMOD (its own fill-reducing ordering; supernodal when it pays) measured ~25% faster
-  // than Eigen's SimplicialLDLT on the 3111-vertex benchmark mesh (scalar system, n x n).
+  // CHOLMOD (its own fill-reducing ordering) measured ~25% faster than Eigen's SimplicialLDLT
+  // on the 3111-vertex benchmark mesh (scalar system, n x n). Simplicial LDL' (set in
+  // analyze): on the fake cell's scene the matched set changes and the system is refactorised
+  // about 3 times a cycle; there its supernodal factorisation (Debian's CHOLMOD runs fixed
+  // 4-thread OpenMP loops inside it, which churn on 2 cores) took 3.4 ms and its 3-column
+  // solve 0.34 ms per iteration, the simplicial one 1.6 ms and 0.13 ms (registration 24.4 ->
+  // 17.5 ms a cycle, `cell_benchmark --phase still`).
   Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
   bool factorised = false;
   std::array<double, 6> weights{};  // the weights the factorisation was made with
@@ -107,6 +112,7 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
   for (int i = 0; i < n; ++i) s.diagonal[i] = entry(i, i);
   s.off_diagonal.clear();
   for (const auto& [a, b] : s.edges) s.off_diagonal.emplace_back(entry(a, b), entry(b, a));
+  s.factor.setMode(Eigen::CholmodLDLt);
   s.factor.analyzePattern(s.system);
   s.factorised = false;
   ++symbolic_analyses_;

@@ -136,7 +136,10 @@ int main(int argc, char** argv) {
           }
           if (since(phase_start) >= warmup_s) {
             figures.add(r);
-            if (r.tracked) figures.add_tracker_stages(cell.last_track().times);
+            if (r.tracked) {
+              figures.add_tracker_stages(cell.last_track().times);
+              figures.add_tracker_counts(cell.last_track());
+            }
           }
           memory.poll(since(run_start));
           next += period;

@@ -48,6 +48,11 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
       twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
 }
 
+void CycleFigures::add_tracker_counts(const tracking::TrackResult& r) {
+  counts_["resampled points"].push_back(r.resampled_points);
+  counts_["registration iterations"].push_back(r.registration_iterations);
+}
+
 void CycleFigures::add_tracker_stages(const tracking::StageTimes& t) {
   stage_ms_["1 fusion"].push_back(t.fusion_ms);
   stage_ms_["2 segmentation"].push_back(t.segmentation_ms);
@@ -65,6 +70,7 @@ std::string CycleFigures::tracker_stages_line() const {
     s += name == "calibration" ? fmt::format(" {} p99 {:.1f}", name, percentile(ms, 0.99))
                                : fmt::format(" {} {:.1f}", name, percentile(ms, 0.5));
   }
+  for (const auto& [name, v] : counts_) s += fmt::format(" | {} {:.0f}", name, percentile(v, 0.5));
   return s;
 }
 

@@ -19,6 +19,7 @@ class CycleFigures {
   void add(const cell::CycleReport& r);
   // The tracker's stage times of a tracked cycle (the cell's last_track()).
   void add_tracker_stages(const tracking::StageTimes& t);
+  void add_tracker_counts(const tracking::TrackResult& r);  // points and iterations (medians)
   void count_sweep() { ++sweeps_; }
   int cycles() const { return cycles_; }
   double rate_hz() const;  // cycles per second between the first and the last added cycle
@@ -34,7 +35,7 @@ class CycleFigures {
   std::chrono::steady_clock::time_point first_, last_;
   std::vector<double> latency_ms_, tracker_ms_, twin_ms_, cycle_ms_;
   std::map<std::string, int> states_;
-  std::map<std::string, std::vector<double>> stage_ms_;
+  std::map<std::string, std::vector<double>> stage_ms_, counts_;
 };
 
 // The p-quantile (0..1, nearest rank) of v; 0 when empty.
