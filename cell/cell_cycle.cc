@@ -13,6 +13,13 @@
 
 namespace cell {
 namespace {
+// What the twin did this cycle: a step, or a fresh static equilibrium after a failure.
+struct TwinWork {
+  bool stepped = false;
+  TwinStepResult step;
+  std::string initialise_problem;  // of the re-initialisation, empty when it worked
+};
+
 double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -57,13 +64,6 @@ void CellController::update_releases(std::int64_t now_us) {
     }
   }
 }
-
-// What the twin did this cycle: a step, or a fresh static equilibrium after a failure.
-struct TwinWork {
-  bool stepped = false;
-  TwinStepResult step;
-  std::string initialise_problem;  // of the re-initialisation, empty when it worked
-};
 
 CycleReport CellController::cycle() {
   const auto t0 = std::chrono::steady_clock::now();

@@ -4,11 +4,11 @@
 //
 // Protocol: 17 x 17 raised markers; four clamps, one per edge, at distinct distances from the
 // corners; stage 1 holds the sheet slack and roughly level; stages 2-4 each move a different
-// clamp up (and toward the centre) by at most 350 mm, stopping at most 5 mm past where the sheet
-// goes taut; stage 5 releases a clamp. Observations:
-// per marker its position with scanner noise, markers under a closed clamp hidden (NaN);
-// clamp positions as a contact probe measures them (small noise); optionally the raw scan
-// around each seen marker (see marker_scan.h); per stage when its clamps stopped moving and
+// clamp up (and toward the centre) by at most 350 mm, stopping before two clamps are farther
+// apart than a trial file may say (lab_max_clamp_distance_m); stage 5 releases a clamp.
+// Observations: per marker its position with scanner noise, markers under a closed clamp
+// hidden (NaN); clamp positions as a contact probe measures them (small noise); optionally the
+// raw scan around each seen marker (see marker_scan.h); per stage when its clamps stopped moving and
 // when it was scanned, 20 s to 15 min later (clamps_moved_at_s, time_s), which the reference
 // sheet's relaxation follows when the truth has it. Everything random comes from the seed.
 
