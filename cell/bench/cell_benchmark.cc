@@ -136,10 +136,7 @@ int main(int argc, char** argv) {
           }
           if (since(phase_start) >= warmup_s) {
             figures.add(r);
-            if (r.tracked) {
-              figures.add_tracker_stages(cell.last_track().times);
-              figures.add_tracker_counts(cell.last_track());
-            }
+            if (r.tracked) figures.add_tracker_cycle(cell.last_track());
           }
           memory.poll(since(run_start));
           next += period;

@@ -48,29 +48,31 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
       twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
 }
 
-void CycleFigures::add_tracker_counts(const tracking::TrackResult& r) {
-  counts_["resampled points"].push_back(r.resampled_points);
-  counts_["registration iterations"].push_back(r.registration_iterations);
-}
-
-void CycleFigures::add_tracker_stages(const tracking::StageTimes& t) {
-  stage_ms_["1 fusion"].push_back(t.fusion_ms);
-  stage_ms_["2 segmentation"].push_back(t.segmentation_ms);
-  stage_ms_["3 resample+index"].push_back(t.resample_ms);
-  stage_ms_["4 registration"].push_back(t.registration_ms);
-  stage_ms_["5 coverage"].push_back(t.coverage_ms);
-  stage_ms_["6 prediction_error"].push_back(t.prediction_error_ms);
-  stage_ms_["7 calibration"].push_back(t.calibration_ms);
+void CycleFigures::add_tracker_cycle(const tracking::TrackResult& r) {
+  tracker_cycles_.push_back({r.times, r.resampled_points, r.registration_iterations});
 }
 
 std::string CycleFigures::tracker_stages_line() const {
+  // One figure of every tracked cycle.
+  auto column = [&](auto field) {
+    std::vector<double> v;
+    for (const TrackerCycle& c : tracker_cycles_) v.push_back(field(c));
+    return v;
+  };
   std::string s = "tracker stages (median ms):";
-  for (const auto& [key, ms] : stage_ms_) {
-    const std::string name = key.substr(2);
-    s += name == "calibration" ? fmt::format(" {} p99 {:.1f}", name, percentile(ms, 0.99))
-                               : fmt::format(" {} {:.1f}", name, percentile(ms, 0.5));
+  const std::pair<const char*, double tracking::StageTimes::*> stages[] = {
+      {"fusion", &tracking::StageTimes::fusion_ms},           {"segmentation", &tracking::StageTimes::segmentation_ms},
+      {"resample+index", &tracking::StageTimes::resample_ms}, {"registration", &tracking::StageTimes::registration_ms},
+      {"coverage", &tracking::StageTimes::coverage_ms},       {"prediction_error", &tracking::StageTimes::prediction_error_ms}};
+  for (const auto& [name, member] : stages) {
+    s += fmt::format(" {} {:.1f}", name, percentile(column([&](const TrackerCycle& t) { return t.times.*member; }), 0.5));
   }
-  for (const auto& [name, v] : counts_) s += fmt::format(" | {} {:.0f}", name, percentile(v, 0.5));
+  // Calibration runs every n-th cycle only: its p99.
+  s += fmt::format(" calibration p99 {:.1f}",
+                   percentile(column([](const TrackerCycle& t) { return t.times.calibration_ms; }), 0.99));
+  s += fmt::format(" | registration iterations {:.0f} | resampled points {:.0f}",
+                   percentile(column([](const TrackerCycle& t) { return double(t.registration_iterations); }), 0.5),
+                   percentile(column([](const TrackerCycle& t) { return double(t.resampled_points); }), 0.5));
   return s;
 }
 

@@ -17,17 +17,16 @@ inline constexpr double kLatencyTargetP99Ms = 50.0;  // the issue's target, ms
 class CycleFigures {
  public:
   void add(const cell::CycleReport& r);
-  // The tracker's stage times of a tracked cycle (the cell's last_track()).
-  void add_tracker_stages(const tracking::StageTimes& t);
-  void add_tracker_counts(const tracking::TrackResult& r);  // points and iterations (medians)
+  // A tracked cycle's tracker figures (the cell's last_track()): stage times, points, iterations.
+  void add_tracker_cycle(const tracking::TrackResult& r);
   void count_sweep() { ++sweeps_; }
   int cycles() const { return cycles_; }
   double rate_hz() const;  // cycles per second between the first and the last added cycle
   std::string line(const std::string& label, const std::string& phase) const;
   // "target: ... met" or "target: ... NOT met by ...; dominant stage ...".
   std::string verdict(double target_hz) const;
-  // "tracker stages ...: fusion .. segmentation .. ..." as medians (calibration: p99, it runs
-  // every n-th cycle only).
+  // "tracker stages (median ms): fusion .. | registration iterations .. | resampled points .."
+  // (calibration as p99: it runs every n-th cycle only).
   std::string tracker_stages_line() const;
 
  private:
@@ -35,7 +34,11 @@ class CycleFigures {
   std::chrono::steady_clock::time_point first_, last_;
   std::vector<double> latency_ms_, tracker_ms_, twin_ms_, cycle_ms_;
   std::map<std::string, int> states_;
-  std::map<std::string, std::vector<double>> stage_ms_, counts_;
+  struct TrackerCycle {
+    tracking::StageTimes times;
+    int resampled_points = 0, registration_iterations = 0;
+  };
+  std::vector<TrackerCycle> tracker_cycles_;
 };
 
 // The p-quantile (0..1, nearest rank) of v; 0 when empty.
