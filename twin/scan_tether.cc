@@ -1,6 +1,7 @@
 #include "twin/scan_tether.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "twin/newton_solver.h"
 #include "twin/objective.h"
@@ -38,7 +39,8 @@ double MarkerTetherTerm::element_energy(int e, const ElementVector& xe, ElementV
 
 SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
                                   const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
-                                  const std::vector<Vec3>& observed_m, VecX& x) {
+                                  const std::vector<Vec3>& observed_m, VecX& x,
+                                  const TetherRelease& release) {
   const DofMap dofs = model.hold_clamps(clamps, poses);
   const double force_scale_N = free_weight_N(model, dofs);
   MarkerTetherTerm tether(markers, observed_m, model.vertex_count());
@@ -52,9 +54,12 @@ SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamp
   clamps.hold(poses, current);
   SolveReport total;
   // Spring stiffness per marker, relative to the marker's share of the sheet's weight per metre
-  // of stretch: from "a 1 mm pull holds ten times its weight" down by factors of 10.
+  // of stretch (the default starts at "a 1 mm pull holds ten times its weight").
   const double weight_per_marker_N = force_scale_N / std::sqrt(static_cast<double>(std::max(1, markers.size())));
-  for (double factor : {1e4, 1e3, 1e2, 1e1, 1.0, 0.1}) {
+  if (!(release.first >= release.last && release.last > 0.0 && release.ratio > 1.0)) {
+    throw std::invalid_argument("equilibrium_from_scan: the tether release needs first >= last > 0 and ratio > 1");
+  }
+  for (double factor = release.first; factor >= release.last * (1.0 - 1e-9); factor /= release.ratio) {
     tether.set_stiffness(factor * weight_per_marker_N);
     total.append(newton.minimize(tethered, dofs, force_scale_N, current, options));
     if (!total.usable()) {

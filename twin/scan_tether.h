@@ -35,10 +35,24 @@ class MarkerTetherTerm final : public ElementTerm<3> {
   double k_N_m_ = 0.0;
 };
 
+// How the springs are let go: their stiffness per marker, in units of the marker's share of the
+// sheet's weight per metre of stretch, from `first` down to `last` by factors of `ratio`, then
+// none.
+struct TetherRelease {
+  double first = 1e4, last = 0.1, ratio = 10.0;
+};
+// Pinned, then let go slowly: the markers held to the scan within its noise (the sheet between
+// them takes its own shape there), then weakened in half-decades until no longer felt. For a
+// start that is already an equilibrium near the scan (the path's): it keeps the shape's wrinkles
+// where the scan has them. From a start interpolated between markers the default is as good or
+// better; neither is always best (see trial_evaluator.cc).
+inline constexpr TetherRelease kPinnedTetherRelease{1e6, 1e-3, 3.1622776601683795};
+
 // x: on entry any start (the scanned shape, say); on success the equilibrium reached by the
 // homotopy. On failure x is unchanged.
 SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
                                   const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
-                                  const std::vector<Vec3>& observed_m, VecX& x);
+                                  const std::vector<Vec3>& observed_m, VecX& x,
+                                  const TetherRelease& release = {});
 
 }  // namespace twin

@@ -142,24 +142,38 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
     StageFit stage;
     stage.id = trial_.stages[s].id;
     if (s < simulated.stages.size()) stage.x = simulated.stages[s].x;  // empty if that stage failed
-    // The same stage settled from its scanned shape: an equilibrium of the same material, in
-    // the basin the real sheet was seen in. Keep whichever of the two the markers are nearer.
+    // The same stage tethered to its scan and let go (scan_tether.h), from two starts: the
+    // shape interpolated from the markers, and the path's own equilibrium pinned to the scan
+    // and let go slowly. Both end at equilibria of the same material in the basin the real
+    // sheet was seen in, or near it; keep whichever of the three the markers are nearest. The
+    // second matters where the path has the right shape but for one wrinkle or fold: the
+    // interpolated shape is coarse between markers (7 cm apart in the lab), and from it the
+    // sheet can settle into a neighbouring basin. Measured on eight lab composite trials (true
+    // material, twin on the lab's own 1539-triangle mesh, errors against the noise-free
+    // markers, mean over stages): 0.33-3.80 mm with the interpolated start alone, 0.10-0.43 mm
+    // with both. Neither start is best on every stage (on a twin coarser than the lab's
+    // sheet, each was 10 mm better than the other on some released stage), hence both.
     const StageObservation& observed = trial_.stages[s].observed;
     if (observed.has_markers() && observed.seen_marker_count() >= 3) {
       model_->set_load_age_s(ages_s_[s]);  // the equilibrium the scan saw: at the scan's age
-      VecX from_scan = shape_from_markers(model_->mesh(), trial_.marker_uv_m, observed.markers_m);
-      const SolveReport r = equilibrium_from_scan(*model_, clamps_, stage_poses(static_cast<int>(s)), *markers_,
-                                                  observed.markers_m, from_scan);
-      fit.newton_iterations += r.iterations;
-      if (r.usable()) {
-        const auto misfit = [&](const VecX& x) {
-          return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
-        };
-        if (stage.x.size() == 0 || misfit(from_scan) < misfit(stage.x)) {
+      const auto misfit = [&](const VecX& x) {
+        return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
+      };
+      std::vector<std::pair<VecX, TetherRelease>> starts;
+      starts.emplace_back(shape_from_markers(model_->mesh(), trial_.marker_uv_m, observed.markers_m),
+                          TetherRelease{});
+      if (stage.x.size() > 0) starts.emplace_back(stage.x, kPinnedTetherRelease);
+      bool from_scan_kept = false;
+      for (auto& [from_scan, release] : starts) {
+        const SolveReport r = equilibrium_from_scan(*model_, clamps_, stage_poses(static_cast<int>(s)),
+                                                    *markers_, observed.markers_m, from_scan, release);
+        fit.newton_iterations += r.iterations;
+        if (r.usable() && (stage.x.size() == 0 || misfit(from_scan) < misfit(stage.x))) {
           stage.x = std::move(from_scan);
-          ++fit.stages_from_scan;
+          from_scan_kept = true;
         }
       }
+      fit.stages_from_scan += from_scan_kept;
     }
     if (stage.x.size() == 0) {
       fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;

@@ -12,8 +12,9 @@
 // likelihood, and its Jacobian gives the Fisher covariance of the estimate.
 //
 // Simulation: the first evaluation follows the trial's stages by quasi-static continuation from
-// the flat sheet (trial_simulation.h), and also settles every marker stage from its scanned
-// shape (observed_shape.h); per stage it keeps the equilibrium nearer the markers. A slack
+// the flat sheet (trial_simulation.h), and also lets every marker stage go from its scan
+// (scan_tether.h), starting once from the shape interpolated from the markers (observed_shape.h)
+// and once from the path's equilibrium; per stage it keeps the equilibrium nearest the markers. A slack
 // hanging sheet has many equilibria and the path from flat picks among them by tiny
 // differences (mesh, material: a 30 % stiffer bending can fold a corner the other way), so
 // the scan is what says which one the real sheet was in. Later evaluations start every stage from the equilibrium
