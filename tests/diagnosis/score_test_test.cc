@@ -224,4 +224,44 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   CHECK(*untested.closest == "orthotropic_stiffness");
 }
 
+TEST_CASE("the verdict names no effect whose fitted strength is compatible with absent", "[diagnosis][verdict]") {
+  const double sigma = 0.3e-3;
+  const int n = 3000;
+  std::vector<dx::CandidateScore> scores(1);
+  scores[0].effect = "viscoelastic_relaxation";
+  scores[0].score = {900.0, 1, 1e-40, 0.6, {}};
+  const double base_bic = dx::bic(std::pow(0.6e-3, 2) * n, n, 3, sigma);
+  const dx::SetScore train = set_with(0.6e-3, n, 1.0e-3), test = set_with(0.6e-3, n, 1.0e-3);
+  std::vector<dx::Refit> refits(1);
+  refits[0].effect = "viscoelastic_relaxation";
+  refits[0].train = set_with(1.02 * sigma, n, 0.5e-3);
+  refits[0].test = set_with(1.05 * sigma, n, 0.52e-3);
+  refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
+  // The refit brings the residual to the floor; its time is well determined (it does not count).
+  twin::ParameterEstimate fraction, time;
+  fraction.parameter = twin::MaterialParameter::kRelaxationFraction;
+  time.parameter = twin::MaterialParameter::kRelaxationTime;
+  time.value = 500.0;
+  time.lower95 = 450.0;
+  time.upper95 = 550.0;
+  const auto verdict_with_fraction = [&](double value, double lower, double upper) {
+    fraction.value = value;
+    fraction.lower95 = lower;
+    fraction.upper95 = upper;
+    refits[0].effect_estimates = {fraction, time};
+    return dx::decide(train, test, base_bic, scores, refits, sigma);
+  };
+  const dx::Verdict present = verdict_with_fraction(0.3, 0.28, 0.32);
+  INFO(present.summary);
+  CHECK(present.verdict == "effect");
+  // 1.7 % [-0.8, 4.1] %: whatever lowered the misfit, the data do not say the sheet relaxes.
+  const dx::Verdict absent = verdict_with_fraction(0.017, -0.008, 0.041);
+  INFO(absent.summary);
+  CHECK(absent.verdict == "unexplained");
+  CHECK_FALSE(absent.effect);
+  bool reason_given = false;
+  for (const std::string& r : absent.reasons) reason_given |= r.find("compatible with absent") != std::string::npos;
+  CHECK(reason_given);
+}
+
 }  // namespace

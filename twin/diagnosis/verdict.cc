@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "twin/diagnosis/chi_square.h"
+#include "twin/diagnosis/effect_library.h"
 #include "twin/diagnosis/residual_analysis.h"
 
 namespace twin::diagnosis {
@@ -29,6 +30,31 @@ const CandidateScore* score_of(const std::vector<CandidateScore>& scores, const 
     if (s.effect == effect) return &s;
   }
   return nullptr;
+}
+
+// Whether the refit's own intervals say the effect is there: some strength of it (every added
+// parameter but a relaxation time or a grip width, which mean nothing while the effect is
+// absent) has a 95 % interval that excludes its value in null_material(). A refit that lowers
+// the misfit with every strength compatible with "absent" has found something else (seen: a
+// null set whose base fit left one training stage on a neighbouring equilibrium, "explained" by
+// a relaxation of 1.7 % [-0.8, 4.1] % because the refit's fresh simulation found the
+// right branch). With no strength parameter (a refit without estimates), nothing to check.
+bool strength_supported(const Refit& r, std::string& evidence) {
+  const auto& library = effect_library();
+  const auto effect = std::find_if(library.begin(), library.end(),
+                                   [&](const CandidateEffect& c) { return c.name == r.effect; });
+  if (effect == library.end()) return true;  // not a library effect: nothing to compare with
+  const Material null = null_material(*effect, r.result.material);
+  bool any = false;
+  for (const ParameterEstimate& e : r.effect_estimates) {
+    if (e.parameter == MaterialParameter::kRelaxationTime || e.parameter == MaterialParameter::kClampGripWidth) continue;
+    any = true;
+    const double absent = get_parameter(null, e.parameter);
+    if (absent < e.lower95 || absent > e.upper95) return true;
+    evidence += fmt::format("{}{} [{:.4g}, {:.4g}] contains {:.4g}", evidence.empty() ? "" : "; ",
+                            parameter_name(e.parameter), e.lower95, e.upper95, absent);
+  }
+  return !any;
 }
 
 }  // namespace
@@ -67,11 +93,16 @@ Verdict decide(const SetScore& base_train, const SetScore& base_test, double bas
     const bool score_ok = s && s->skipped.empty() && s->score.p_value < alpha;
     const bool bic_ok = r.information_criterion < base_bic;
     const bool held_out_ok = !(r.test.mean_correspondence_m >= base_test.mean_correspondence_m);
+    std::string absent_evidence;
+    const bool strength_ok = strength_supported(r, absent_evidence);
+    const bool qualifies = score_ok && bic_ok && held_out_ok && strength_ok;
     v.reasons.push_back(fmt::format(
-        "{}: score p = {:.2g} (needs < {:.2g}), BIC {:+.1f} vs base, held-out mean {:.3f} -> {:.3f} mm{}", r.effect,
+        "{}: score p = {:.2g} (needs < {:.2g}), BIC {:+.1f} vs base, held-out mean {:.3f} -> {:.3f} mm{}{}", r.effect,
         s ? s->score.p_value : 1.0, alpha, r.information_criterion - base_bic, 1e3 * base_test.mean_correspondence_m,
-        1e3 * r.test.mean_correspondence_m, score_ok && bic_ok && held_out_ok ? " (qualifies)" : ""));
-    if (score_ok && bic_ok && held_out_ok && (!best || r.test.sum_squares_m2 < best->test.sum_squares_m2)) best = &r;
+        1e3 * r.test.mean_correspondence_m,
+        strength_ok ? "" : fmt::format(", its fitted strength is compatible with absent ({})", absent_evidence),
+        qualifies ? " (qualifies)" : ""));
+    if (qualifies && (!best || r.test.sum_squares_m2 < best->test.sum_squares_m2)) best = &r;
   }
 
   if (best) {

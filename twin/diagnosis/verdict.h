@@ -9,7 +9,10 @@
 //    that alone). Neither set significant -> "none" (no missing effect supported).
 // 2. Which candidate? A candidate qualifies when its score test is significant at
 //    kScoreAlpha / (candidates tested) (Bonferroni) and its refit lowers the BIC below the
-//    base fit's and lowers the held-out mean correspondence error. Of the qualifying ones the
+//    base fit's and lowers the held-out mean correspondence error, and its own 95 % intervals
+//    put some strength of the effect away from "absent" (null_material(); a relaxation time or
+//    a grip width does not count: it means nothing while the effect is absent; a candidate
+//    whose refit gives no estimates is not checked). Of the qualifying ones the
 //    one with the lowest held-out sum of squares wins. (diagnose.cc refits only candidates
 //    significant in the score test; with none, the closest is the one explaining the most.)
 // 3. Does it explain the discrepancy? The winner must leave the mean marker error within
