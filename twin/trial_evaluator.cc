@@ -151,8 +151,8 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
     // sheet can settle into a neighbouring basin. Measured on eight lab composite trials (true
     // material, twin on the lab's own 1539-triangle mesh, errors against the noise-free
     // markers, mean over stages): 0.33-3.80 mm with the interpolated start alone, 0.10-0.43 mm
-    // with both. Neither start is best on every stage (on a twin coarser than the lab's
-    // sheet, each was 10 mm better than the other on some released stage), hence both.
+    // with both. Neither start is best on every stage (on twins coarser than the lab's sheet,
+    // either beat the other by 1.5-10 mm on some stage), hence both.
     const StageObservation& observed = trial_.stages[s].observed;
     if (observed.has_markers() && observed.seen_marker_count() >= 3) {
       model_->set_load_age_s(ages_s_[s]);  // the equilibrium the scan saw: at the scan's age
