@@ -1,6 +1,8 @@
-// Identification by gradients: least squares on the markers, the gradient by adjoint solves
-// (trial_evaluator.h), NLopt LD_LBFGS in search coordinates
-// (log p for stiffnesses, p / scale for effect parameters: material_parameters.h).
+// Identification by derivatives: least squares on the markers in search coordinates (log p for
+// stiffnesses, p / scale for effect parameters: material_parameters.h), either by
+// Levenberg-Marquardt on the residuals with the equilibria's tangents as Jacobian (the default)
+// or by NLopt LD_LBFGS on their mean square with the gradient by adjoint solves
+// (trial_evaluator.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +12,7 @@
 #include <nlopt.hpp>
 
 #include "twin/identification.h"
+#include "twin/levenberg_marquardt.h"
 
 namespace twin {
 namespace {
@@ -33,7 +36,8 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
   const auto start = std::chrono::steady_clock::now();
   const int simulations_before = problem.simulations();
   IdentificationResult result;
-  result.method = "ours: adjoint gradient + LD_LBFGS";
+  const bool lbfgs = options.optimizer == GradientOptimizer::kLbfgs;
+  result.method = lbfgs ? "ours: adjoint gradient + LD_LBFGS" : "ours: equilibrium tangents + Levenberg-Marquardt";
   // Equilibria continued from another method's materials would carry its choice of branches.
   problem.forget_warm_starts();
   result.objective_name = "mean squared marker residual per coordinate (mm^2)";
@@ -83,20 +87,55 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
         return f;
       },
       &context);
+  // Levenberg-Marquardt's residuals: the stacked marker residuals (m) and their tangents.
+  const auto residuals = [&](const VecX& at) {
+    const auto e = problem.evaluate(at, Derivatives::kJacobian, 0.5);
+    ++result.evaluations;
+    LeastSquaresPoint point;
+    point.usable = e.usable();
+    if (!point.usable) return point;
+    point.residuals = e.residuals_m;
+    point.jacobian = e.coordinate_jacobian;
+    const double f = kMm2PerM2 * e.mean_square_m2;
+    if (f < context.best) {
+      context.best = f;
+      context.best_x = at;
+    }
+    return point;
+  };
+  const VecX lower_y = Eigen::Map<const VecX>(lower.data(), P);
+  const VecX upper_y = Eigen::Map<const VecX>(upper.data(), P);
   double value = std::numeric_limits<double>::infinity();
   for (int round = 0;; ++round) {
-    try {
-      opt.set_maxeval(std::max(1, options.max_evaluations - result.evaluations));
-      const nlopt::result r = opt.optimize(x, value);
-      switch (r) {
-        case nlopt::XTOL_REACHED: result.stop_reason = "parameters converged"; break;
-        case nlopt::FTOL_REACHED: result.stop_reason = "objective converged"; break;
-        case nlopt::MAXEVAL_REACHED: result.stop_reason = "evaluation budget reached"; break;
-        default: result.stop_reason = fmt::format("NLopt result {}", static_cast<int>(r));
+    const int budget = std::max(1, options.max_evaluations - result.evaluations);
+    if (!lbfgs) {
+      LevenbergMarquardtOptions lm;
+      lm.max_evaluations = budget;
+      lm.x_tolerance = options.x_tolerance;
+      lm.f_tolerance = options.f_tolerance;
+      try {
+        const LevenbergMarquardtResult r =
+            levenberg_marquardt(residuals, Eigen::Map<const VecX>(x.data(), P), lower_y, upper_y, lm);
+        x.assign(r.coordinates.data(), r.coordinates.data() + P);
+        value = context.best;
+        result.stop_reason = r.stop_reason;
+      } catch (const std::invalid_argument&) {
+        result.stop_reason = "the start material does not simulate";
       }
-    } catch (const std::exception& e) {
-      // L-BFGS gives up on round-off near the optimum; the best point seen is still the answer.
-      result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
+    } else {
+      try {
+        opt.set_maxeval(budget);
+        const nlopt::result r = opt.optimize(x, value);
+        switch (r) {
+          case nlopt::XTOL_REACHED: result.stop_reason = "parameters converged"; break;
+          case nlopt::FTOL_REACHED: result.stop_reason = "objective converged"; break;
+          case nlopt::MAXEVAL_REACHED: result.stop_reason = "evaluation budget reached"; break;
+          default: result.stop_reason = fmt::format("NLopt result {}", static_cast<int>(r));
+        }
+      } catch (const std::exception& e) {
+        // L-BFGS gives up on round-off near the optimum; the best point seen is still the answer.
+        result.stop_reason = fmt::format("NLopt stopped: {}", e.what());
+      }
     }
     if (round == options.max_restarts || context.best_x.size() != P ||
         result.evaluations >= options.max_evaluations) {

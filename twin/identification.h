@@ -111,7 +111,16 @@ IdentificationResult identify_isres(IdentificationProblem& problem, const IsresO
 
 // --- gradients ----------------------------------------------------------------------------
 
+enum class GradientOptimizer {
+  // Levenberg-Marquardt on the marker residuals, Jacobian from the equilibria's tangents
+  // (levenberg_marquardt.h): a handful of evaluations where the data leave a flat valley.
+  kLevenbergMarquardt,
+  // NLopt LD_LBFGS on the mean square, gradient by one adjoint solve per stage.
+  kLbfgs,
+};
+
 struct GradientOptions {
+  GradientOptimizer optimizer = GradientOptimizer::kLevenbergMarquardt;
   std::optional<VecX> start_coordinates;  // default: log of the base material's values
   int max_evaluations = 80;
   // The search stays within this factor of the start in every parameter (and within sane

@@ -98,6 +98,10 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
   cmd->add_option("--out", a.out, "material file to write (JSON)")->required();
   cmd->add_option("--method", a.method, "gradient (ours), paper (screening + ISRES) or both")
       ->check(CLI::IsMember({"gradient", "paper", "both"}));
+  cmd->add_option("--optimizer", a.optimizer,
+                  "for --method gradient: lm (Levenberg-Marquardt on the residuals, default) or lbfgs "
+                  "(NLopt LD_LBFGS on their mean square)")
+      ->check(CLI::IsMember({"lm", "lbfgs"}));
   cmd->add_option("--parameters", a.parameters, "comma-separated parameters to identify");
   cmd->add_option("--start", a.start, "material file with start values and the fixed properties")
       ->check(CLI::ExistingFile);
@@ -155,6 +159,7 @@ int run_identify(const IdentifyArguments& a) {
   if (a.method == "gradient" || a.method == "both") {
     GradientOptions options;
     if (a.max_evaluations > 0) options.max_evaluations = a.max_evaluations;
+    options.optimizer = a.optimizer == "lbfgs" ? GradientOptimizer::kLbfgs : GradientOptimizer::kLevenbergMarquardt;
     results.push_back(identify_gradient(problem, options));
   }
   int status = 2;

@@ -12,6 +12,7 @@ struct IdentifyArguments {
   std::vector<std::string> train, test;
   std::string out;                 // material file to write
   std::string method = "gradient";  // gradient | paper | both
+  std::string optimizer = "lm";     // for gradient: lm | lbfgs
   std::string parameters = "tensile_N_m,shear_N_m,bending_Nm";
   std::string start;               // optional material file: start values and fixed properties
   std::string residuals;           // optional directory for per-marker residual files
