@@ -11,6 +11,7 @@
 
 #include "twin/diagnosis/diagnosis_output.h"
 #include "twin/diagnosis/noise_estimate.h"
+#include "twin/diagnosis/refit.h"
 
 namespace twin::diagnosis {
 namespace {
@@ -75,6 +76,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   };
   GradientOptions gradient;
   gradient.max_evaluations = o.base_evaluations;
+  gradient.optimizer = kDiagnosisOptimizer;
   IdentificationResult base = identify_gradient(problem, gradient);
   if (base.coordinates.size() == 0) throw std::runtime_error("the base fit failed: " + base.stop_reason);
   estimate_uncertainty(problem, base);

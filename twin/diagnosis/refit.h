@@ -20,6 +20,15 @@
 
 namespace twin::diagnosis {
 
+// The optimiser of the base fit and of every refit. L-BFGS, although identification defaults to
+// Levenberg-Marquardt: run on the 21 blind sets (2026-11-25), Levenberg-Marquardt diagnosed them
+// about a third faster and named nonlinear bending in one more set, but its base fit of a null
+// set (seed 1003) stopped with one stage on another equilibrium branch (4.7 mm), and a clamp-slip
+// refit of 6 micrometres per newton, which moved the sheet onto the right branch, was then named
+// as the missing effect. A wrong name is worse than "unexplained": until the verdict tells a
+// branch change from an effect, the diagnosis keeps the optimiser its verdicts were proven with.
+inline constexpr GradientOptimizer kDiagnosisOptimizer = GradientOptimizer::kLbfgs;
+
 struct StageScore {
   std::string trial, stage;
   double correspondence_mean_m = 0.0;  // NaN for a cloud stage
