@@ -3,6 +3,8 @@
 #include <dlfcn.h>
 #include <omp.h>
 
+#include <mutex>
+
 #include <Eigen/CholmodSupport>
 
 namespace twin {
@@ -13,11 +15,16 @@ namespace {
 // OpenMP threads and the supernodes of a sheet are too small to gain from them (measured: one
 // BLAS thread factorises a 6k-triangle sheet as fast as two). libblas.so.3 is a run-time choice
 // (OpenBLAS or the reference BLAS), so the call is looked up, not linked.
+// Once per process: factorisations are built concurrently on the lanes of job_lanes.h, and
+// OpenBLAS's setter reconfigures its thread pool.
 void use_single_threaded_blas() {
-  using SetThreads = void (*)(int);
-  if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) {
-    set(1);
-  }
+  static std::once_flag once;
+  std::call_once(once, [] {
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) {
+      set(1);
+    }
+  });
 }
 
 }  // namespace

@@ -1,12 +1,14 @@
 #include "twin/trial_evaluator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
 
+#include "twin/job_lanes.h"
 #include "twin/observed_shape.h"
 #include "twin/scan_tether.h"
 #include "twin/stage_age.h"
@@ -70,6 +72,19 @@ TrialEvaluator::TrialEvaluator(Trial trial, int twin_triangles, const Material& 
   model_->set_marker_points(*markers_);  // their mass, when the material gives them one
   model_->set_clamp_grips(clamps_);       // their width, when the material widens them
   model_->set_clamp_slips(clamps_);       // their give, when the material lets them slip
+}
+
+std::unique_ptr<ShellModel> TrialEvaluator::build_model(SheetMesh mesh, const Material& material) const {
+  auto model = std::make_unique<ShellModel>(std::move(mesh), material);
+  model->set_marker_points(*markers_);
+  model->set_clamp_grips(clamps_);
+  model->set_clamp_slips(clamps_);
+  return model;
+}
+
+ShellModel& TrialEvaluator::lane_model(int lane) {
+  if (lane == 0) return *model_;
+  return *second_lane_model_;
 }
 
 TrialEvaluator::~TrialEvaluator() = default;
@@ -136,45 +151,82 @@ bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material
 
 bool TrialEvaluator::simulate_cold(TrialFit& fit) {
   fit.stages.clear();
-  const TrialSimulation simulated = simulate_stages(*model_, clamps_, trial_.stages);
+  // Besides the path, every marker stage is tethered to its scan and let go (scan_tether.h),
+  // from two starts: the shape interpolated from the markers, and the path's own equilibrium
+  // pinned to the scan and let go slowly. Both end at equilibria of the same material in the
+  // basin the real sheet was seen in, or near it; keep whichever of the three the markers are
+  // nearest. The second matters where the path has the right shape but for one wrinkle or
+  // fold: the interpolated shape is coarse between markers (7 cm apart in the lab), and from it
+  // the sheet can settle into a neighbouring basin. Measured on eight lab composite trials
+  // (true material, twin on the lab's own 1539-triangle mesh, errors against the noise-free
+  // markers, mean over stages): 0.33-3.80 mm with the interpolated start alone, 0.10-0.43 mm
+  // with both. Neither start is best on every stage (on twins coarser than the lab's sheet,
+  // either beat the other by 1.5-10 mm on some stage), hence both.
+  //
+  // The path runs on lane 0; the tethered solves are jobs for either lane: those from the
+  // interpolated shapes at once, those from the path's equilibria as the path reaches each
+  // stage. Each lane solves on its own model (the model's load age and clamp state change per
+  // solve). Measured on the benchmark trial (1539 triangles, one thread per solve): path 6.0 s,
+  // interpolated starts 3.0 s, path starts 4.9 s.
+  const std::size_t stage_count = trial_.stages.size();
+  enum Start { kInterpolated = 0, kFromPath = 1 };
+  struct Tethered {
+    VecX x;
+    SolveReport report;
+    bool ran = false;
+  };
+  std::vector<std::array<Tethered, 2>> tethered(stage_count);
+  const auto tethers_scan = [&](std::size_t s) {
+    const StageObservation& observed = trial_.stages[s].observed;
+    return observed.has_markers() && observed.seen_marker_count() >= 3;
+  };
+  const auto tether = [&](int lane, std::size_t s, Start start, VecX x) {
+    ShellModel& model = lane_model(lane);
+    model.set_load_age_s(ages_s_[s]);  // the equilibrium the scan saw: at the scan's age
+    Tethered& t = tethered[s][start];
+    t.report = equilibrium_from_scan(model, clamps_, stage_poses(static_cast<int>(s)), *markers_,
+                                     trial_.stages[s].observed.markers_m, x,
+                                     start == kInterpolated ? TetherRelease{} : kPinnedTetherRelease);
+    t.x = std::move(x);
+    t.ran = true;
+  };
+  constexpr int kLanes = 2;
+  if (available_lanes(kLanes) > 1) {
+    if (!second_lane_model_) second_lane_model_ = build_model(model_->mesh(), model_->material());
+    second_lane_model_->set_material(model_->material());
+  }
+  JobQueue jobs;
+  for (std::size_t s = 0; s < stage_count; ++s) {
+    if (!tethers_scan(s)) continue;
+    VecX start = shape_from_markers(model_->mesh(), trial_.marker_uv_m, trial_.stages[s].observed.markers_m);
+    jobs.push([&tether, s, start = std::move(start)](int lane) { tether(lane, s, kInterpolated, start); });
+  }
+  TrialSimulation simulated;
+  run_lanes(kLanes, jobs, [&] {
+    simulated = simulate_stages(*model_, clamps_, trial_.stages, {}, [&](std::size_t s, const VecX& x) {
+      if (tethers_scan(s)) jobs.push([&tether, s, x](int lane) { tether(lane, s, kFromPath, x); });
+    });
+  });
+
   for (const StageSimulation& s : simulated.stages) fit.newton_iterations += s.report.newton_iterations;
-  for (std::size_t s = 0; s < trial_.stages.size(); ++s) {
+  for (std::size_t s = 0; s < stage_count; ++s) {
     StageFit stage;
     stage.id = trial_.stages[s].id;
     if (s < simulated.stages.size()) stage.x = simulated.stages[s].x;  // empty if that stage failed
-    // The same stage tethered to its scan and let go (scan_tether.h), from two starts: the
-    // shape interpolated from the markers, and the path's own equilibrium pinned to the scan
-    // and let go slowly. Both end at equilibria of the same material in the basin the real
-    // sheet was seen in, or near it; keep whichever of the three the markers are nearest. The
-    // second matters where the path has the right shape but for one wrinkle or fold: the
-    // interpolated shape is coarse between markers (7 cm apart in the lab), and from it the
-    // sheet can settle into a neighbouring basin. Measured on eight lab composite trials (true
-    // material, twin on the lab's own 1539-triangle mesh, errors against the noise-free
-    // markers, mean over stages): 0.33-3.80 mm with the interpolated start alone, 0.10-0.43 mm
-    // with both. Neither start is best on every stage (on twins coarser than the lab's sheet,
-    // either beat the other by 1.5-10 mm on some stage), hence both.
     const StageObservation& observed = trial_.stages[s].observed;
-    if (observed.has_markers() && observed.seen_marker_count() >= 3) {
-      model_->set_load_age_s(ages_s_[s]);  // the equilibrium the scan saw: at the scan's age
-      const auto misfit = [&](const VecX& x) {
-        return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
-      };
-      std::vector<std::pair<VecX, TetherRelease>> starts;
-      starts.emplace_back(shape_from_markers(model_->mesh(), trial_.marker_uv_m, observed.markers_m),
-                          TetherRelease{});
-      if (stage.x.size() > 0) starts.emplace_back(stage.x, kPinnedTetherRelease);
-      bool from_scan_kept = false;
-      for (auto& [from_scan, release] : starts) {
-        const SolveReport r = equilibrium_from_scan(*model_, clamps_, stage_poses(static_cast<int>(s)),
-                                                    *markers_, observed.markers_m, from_scan, release);
-        fit.newton_iterations += r.iterations;
-        if (r.usable() && (stage.x.size() == 0 || misfit(from_scan) < misfit(stage.x))) {
-          stage.x = std::move(from_scan);
-          from_scan_kept = true;
-        }
+    const auto misfit = [&](const VecX& x) {
+      return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
+    };
+    bool from_scan_kept = false;
+    for (Tethered& t : tethered[s]) {  // interpolated first, then from the path, as the lanes ran them
+      if (!t.ran) continue;
+      fit.newton_iterations += t.report.iterations;
+      if (t.report.usable() && (stage.x.size() == 0 || misfit(t.x) < misfit(stage.x))) {
+        stage.x = std::move(t.x);
+        from_scan_kept = true;
       }
-      fit.stages_from_scan += from_scan_kept;
     }
+    fit.stages_from_scan += from_scan_kept;
     if (stage.x.size() == 0) {
       fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;
       return false;

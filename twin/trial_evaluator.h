@@ -14,7 +14,9 @@
 // Simulation: the first evaluation follows the trial's stages by quasi-static continuation from
 // the flat sheet (trial_simulation.h), and also lets every marker stage go from its scan
 // (scan_tether.h), starting once from the shape interpolated from the markers (observed_shape.h)
-// and once from the path's equilibrium; per stage it keeps the equilibrium nearest the markers. A slack
+// and once from the path's equilibrium; per stage it keeps the equilibrium nearest the markers.
+// These solves run side by side on two lanes (job_lanes.h), each lane on its own copy of the
+// model: the path on one, the scan starts on the other as soon as they can start. A slack
 // hanging sheet has many equilibria and the path from flat picks among them by tiny
 // differences (mesh, material: a 30 % stiffer bending can fold a corner the other way), so
 // the scan is what says which one the real sheet was in. Later evaluations start every stage from the equilibrium
@@ -121,9 +123,13 @@ class TrialEvaluator {
   void differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
                      Derivatives derivatives);
   std::vector<ClampPose> stage_poses(int stage) const;
+  std::unique_ptr<ShellModel> build_model(SheetMesh mesh, const Material& material) const;
+  // The model lane `lane` of a fresh simulation solves on (lane 0: model_), with model_'s material.
+  ShellModel& lane_model(int lane);
 
   Trial trial_;
   std::unique_ptr<ShellModel> model_;
+  std::unique_ptr<ShellModel> second_lane_model_;  // built at the first fresh simulation on two lanes
   ClampSet clamps_;
   std::unique_ptr<MaterialPointMap> markers_;
   SheetPlacement placement_;

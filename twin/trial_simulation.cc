@@ -49,7 +49,8 @@ SheetPlacement fit_level_placement(const std::vector<ClampSpec>& clamps,
 
 TrialSimulation simulate_stages(ShellModel& model, const ClampSet& clamps,
                                 const std::vector<TrialStage>& stages,
-                                const ContinuationOptions& options) {
+                                const ContinuationOptions& options,
+                                const StageReached& on_stage) {
   TrialSimulation result;
   if (stages.empty()) {
     result.failure = "the trial has no stages";
@@ -90,6 +91,7 @@ TrialSimulation simulate_stages(ShellModel& model, const ClampSet& clamps,
     }
     poses = target;
     s.x = x;
+    if (on_stage) on_stage(k, s.x);
     result.stages.push_back(std::move(s));
   }
   return result;

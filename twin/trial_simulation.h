@@ -6,6 +6,8 @@
 // the one before. Used by identification (thousands of times, on a coarse twin mesh) and by
 // the scanner lab (once, on a fine reference mesh).
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,8 +41,12 @@ SheetPlacement fit_level_placement(const std::vector<ClampSpec>& clamps,
 // then the stage's equilibrium is solved again at the stage's age with the clamps where they
 // stopped (the sheet relaxing until the scan). Without relaxation the age changes nothing and
 // that second solve is skipped. The model is left at the last simulated stage's age.
+// `on_stage`, when given, is called with each stage's index and equilibrium as soon as it is
+// reached (so a caller can start work on it while later stages are simulated).
+using StageReached = std::function<void(std::size_t stage, const VecX& x)>;
 TrialSimulation simulate_stages(ShellModel& model, const ClampSet& clamps,
                                 const std::vector<TrialStage>& stages,
-                                const ContinuationOptions& options = {});
+                                const ContinuationOptions& options = {},
+                                const StageReached& on_stage = nullptr);
 
 }  // namespace twin
