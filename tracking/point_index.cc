@@ -56,10 +56,19 @@ void PointIndex::nearest(const std::vector<Eigen::Vector3f>& queries, float max_
   if (!impl_->tree || queries.empty()) return;
   flann::Matrix<int> idx(index.data(), queries.size(), 1);
   flann::Matrix<float> d2(squared_distance.data(), queries.size(), 1);
-  impl_->tree->knnSearch(as_matrix(queries), idx, d2, 1, impl_->params());
+  // The nearest point within the gate (FLANN's k-nearest-within-radius result set with k = 1):
+  // the search prunes every branch farther than the gate from the start, where an unbounded
+  // nearest-neighbour search first walks to the nearest point however far it is (a vertex the
+  // cameras do not see, say) and the gate is applied after. Same answer.
+  flann::SearchParams p = impl_->params();
+  p.max_neighbors = 1;
   const float limit = max_distance_m * max_distance_m;
+  impl_->tree->radiusSearch(as_matrix(queries), idx, d2, limit, p);
   for (std::size_t k = 0; k < queries.size(); ++k) {
-    if (squared_distance[k] > limit) index[k] = -1;
+    if (!(squared_distance[k] <= limit)) {
+      index[k] = -1;
+      squared_distance[k] = std::numeric_limits<float>::infinity();
+    }
   }
 }
 
