@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Identification benchmark (issue 3): the paper's method (screening + ISRES) and ours (adjoint
-# gradient + L-BFGS) on the composite protocol: one lab trial (seed 1, five stages) to train,
-# another (seed 2) to test. Prints wall time, simulations, estimates and train/test errors.
+# Identification benchmark (issue 3): the paper's method (screening + ISRES) and ours
+# (equilibrium tangents + Levenberg-Marquardt) on the composite protocol: one lab trial (seed 1,
+# five stages) to train, another (seed 2) to test. Prints wall time, simulations, estimates and train/test errors.
 # Usage: bash scripts/identification_benchmark.sh [TWIN_TRIANGLES (default 1500)]
 set -euo pipefail
 cd "$(dirname "$0")/.."

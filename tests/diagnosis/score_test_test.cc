@@ -265,3 +265,38 @@ TEST_CASE("the verdict names no effect whose fitted strength is compatible with 
 }
 
 }  // namespace
+
+TEST_CASE("the base moves onto the best branch a refit found, when the effect-free fit there is clearly better",
+          "[diagnosis][verdict]") {
+  const double sigma = 0.3e-3;
+  const int n = 3000;
+  const dx::SetScore base = set_with(0.6e-3, n, 1.0e-3);
+  const auto refit = [&](const char* effect, double without_rms_m) {
+    dx::Refit r;
+    r.effect = effect;
+    r.train = set_with(0.31e-3, n, 0.5e-3);
+    r.without_effect_train = set_with(without_rms_m, n, 0.5e-3);
+    r.without_effect_test = set_with(without_rms_m, n, 0.5e-3);
+    return r;
+  };
+  CHECK(dx::better_branch({}, base, sigma) == nullptr);
+  // Removing the effect undoes the gain: the effect earned it, the base stays.
+  std::vector<dx::Refit> refits{refit("orthotropic_stiffness", 0.65e-3)};
+  CHECK(dx::better_branch(refits, base, sigma) == nullptr);
+  // Better by less than one parameter's charge (sigma^2 ln n, about 8 chi-square units here): stays.
+  const double charge_m2 = sigma * sigma * std::log(n);
+  const double just_under = std::sqrt((base.sum_squares_m2 - 0.5 * charge_m2) / n);
+  refits = {refit("clamp_slip", just_under)};
+  CHECK(dx::better_branch(refits, base, sigma) == nullptr);
+  // Without the effect, on the refit's branches, at the noise: the gain was the branch.
+  refits = {refit("viscoelastic_relaxation", 0.45e-3), refit("clamp_slip", 0.32e-3), refit("marker_mass", 0.7e-3)};
+  const dx::Refit* moved = dx::better_branch(refits, base, sigma);
+  REQUIRE(moved != nullptr);
+  CHECK(moved->effect == "clamp_slip");
+  // A failed refit, or one whose effect-free material did not simulate, is passed over.
+  refits[1].failure = "no result";
+  REQUIRE(dx::better_branch(refits, base, sigma) != nullptr);
+  CHECK(dx::better_branch(refits, base, sigma)->effect == "viscoelastic_relaxation");
+  refits[0].without_effect_test.failure = "test_1: stage 5 did not converge";
+  CHECK(dx::better_branch(refits, base, sigma) == nullptr);
+}

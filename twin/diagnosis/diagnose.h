@@ -5,9 +5,12 @@
 //      sigma (given, or estimated from the training residuals: noise_estimate.h), the analysis
 //      (residual_analysis.h);
 //   3. name: the score test of every candidate effect at the base fit; when the base residual
-//      is significant, refits of the best few; the verdict (verdict.h);
-//   4. add: OUT/material_augmented.json (the base material file with the named effect);
-//   5. show: OUT/verdict.json, OUT/report.md with figures, and the terminal summary.
+//      is significant, refits of the best few;
+//   4. the best branch: when a refit's material with its effect removed, continued on the
+//      refit's equilibria, fits the training trials better than the base fit, that effect-free
+//      fit becomes the base (diagnose.cc); then the verdict (verdict.h);
+//   5. add: OUT/material_augmented.json (the base material file with the named effect);
+//   6. show: OUT/verdict.json, OUT/report.md with figures, and the terminal summary.
 
 #include <functional>
 #include <optional>

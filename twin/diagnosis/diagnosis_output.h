@@ -3,6 +3,7 @@
 // (only when an effect is named: the base fit's material file plus the effect, so the twin,
 // identification and the cell use it with no code change) and the report (diagnosis_report.h).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@ struct DiagnosisRecord {
   std::vector<int> ranking;                  // indices into scores of the tested ones, best first
   std::vector<Refit> refits;                 // in ranking order
   double base_bic = 0.0;
+  // When the base moved onto the equilibria of a refit (diagnose.cc, step 4): that refit's effect.
+  std::optional<std::string> base_branch_of;
 };
 
 // verdict.json's content (the contract in README "Diagnosis").

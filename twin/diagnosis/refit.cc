@@ -13,11 +13,11 @@ namespace twin::diagnosis {
 double SetScore::rms_m() const { return residual_count > 0 ? std::sqrt(sum_squares_m2 / residual_count) : NAN; }
 
 SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
-                   const std::vector<MaterialParameter>& parameters, ResidualField* field) {
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field, bool continued) {
   SetScore s;
   int marker_stages = 0;
   for (TrialEvaluator* t : trials) {
-    t->clear_warm_starts();
+    if (!continued) t->clear_warm_starts();
     const TrialFit fit = t->evaluate(material, parameters);
     const std::string name = std::filesystem::path(t->trial().directory).filename().string();
     if (!fit.usable()) {
@@ -122,6 +122,20 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
   return starts;
 }
 
+const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& base_train, double sigma_m) {
+  const Refit* best = nullptr;
+  for (const Refit& r : refits) {
+    if (!r.usable() || !r.without_effect_train.usable() || !r.without_effect_test.usable() ||
+        r.without_effect_train.residual_count != base_train.residual_count) {
+      continue;
+    }
+    if (!best || r.without_effect_train.sum_squares_m2 < best->without_effect_train.sum_squares_m2) best = &r;
+  }
+  const double charge_m2 = sigma_m * sigma_m * std::log(std::max(base_train.residual_count, 2));
+  if (best && best->without_effect_train.sum_squares_m2 < base_train.sum_squares_m2 - charge_m2) return best;
+  return nullptr;
+}
+
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
                       const Eigen::VectorXd& score_step, double sigma_m, const RefitOptions& options,
@@ -170,6 +184,16 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
   else if (!r.test.usable()) r.failure = r.test.failure;
   r.information_criterion = bic(r.train.sum_squares_m2, r.train.residual_count,
                                 static_cast<int>(effect.refit_parameters.size()), sigma_m);
+  if (r.usable()) {
+    // Each trial's cache now holds the refit material's fresh equilibria (score_set above):
+    // the effect-free material continues from them, in the same parameter list.
+    r.without_effect = null_material(effect, r.result.material);
+    r.without_effect_train_field.fitted_parameters = static_cast<int>(effect.base_count);
+    r.without_effect_train = score_set(training, r.without_effect, effect.refit_parameters,
+                                       &r.without_effect_train_field, /*continued=*/true);
+    r.without_effect_test = score_set(testing, r.without_effect, effect.refit_parameters,
+                                      &r.without_effect_test_field, /*continued=*/true);
+  }
   return r;
 }
 

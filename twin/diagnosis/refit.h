@@ -46,10 +46,13 @@ struct SetScore {
   double rms_m() const;                // per coordinate
 };
 
-// Simulates every trial with `material` (warm starts dropped first: earlier evaluations may
-// have varied other parameter lists) and scores it; appends the residuals to `field` when given.
+// Simulates every trial with `material` and scores it; appends the residuals to `field` when
+// given. Warm starts are dropped first (earlier evaluations may have varied other parameter
+// lists), unless `continued`: then each trial continues from its equilibria of the nearest
+// material evaluated before with the same parameter list (trial_evaluator.h).
 SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& material,
-                   const std::vector<MaterialParameter>& parameters, ResidualField* field = nullptr);
+                   const std::vector<MaterialParameter>& parameters, ResidualField* field = nullptr,
+                   bool continued = false);
 
 double bic(double sum_squares_m2, int residual_count, int parameter_count, double sigma_m);
 
@@ -88,7 +91,20 @@ struct Refit {
   SetScore train, test;
   ResidualField train_field, test_field;      // residuals with the refit material
   double information_criterion = 0.0;         // BIC above, on the training trials
+  // The refit's material with the effect removed (null_material), continued on the refit's own
+  // equilibria: an effect-free material on the branches the refit's simulations chose. When it
+  // fits the training trials better than the base fit, the refit's gain was (partly) a better
+  // branch, not the effect, and diagnose.cc makes it the base (see there).
+  Material without_effect;
+  SetScore without_effect_train, without_effect_test;
+  ResidualField without_effect_train_field, without_effect_test_field;
 };
+
+// The refit on whose equilibria its effect-free material (Refit::without_effect) fits the
+// training trials best, when that fit beats `base_train` by more than one parameter's BIC
+// charge (sigma^2 ln n of the sum of squares); else null. Refits without a usable
+// effect-free score are passed over.
+const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& base_train, double sigma_m);
 
 // identify_gradient from every start of refit_starts(); the best fit (lowest training misfit)
 // is kept, with its intervals and scores.
