@@ -65,6 +65,11 @@ struct TrackResult {
   SegmentationCounts segmentation;
   int fused_points = 0, sheet_points = 0, resampled_points = 0;
   int registration_iterations = 0;
+  // The registration started from the last cycle's tracked surface (registration.warm_start);
+  // `registration_restarted`: that warm fit lost too many matches and the cycle's result is a
+  // second fit from the prediction (its iterations are in registration_iterations too).
+  bool registration_warm = false;
+  bool registration_restarted = false;
   StageTimes times;
 };
 
@@ -73,8 +78,13 @@ class SheetTracker {
   explicit SheetTracker(TrackerConfig config = {});
   const TrackerConfig& config() const { return config_; }
 
-  // One cycle. Never throws: whatever goes wrong ends in the result's status.
+  // One cycle. Never throws: whatever goes wrong ends in the result's status. Successive calls
+  // are successive cycles: a cycle that tracked lets the next one start its registration from
+  // its result (registration.warm_start); a cycle that did not, or a prediction on another
+  // mesh, makes the next one start from the prediction.
   TrackResult track(const std::vector<drivers::DepthFrame>& frames, const SurfaceMesh& prediction);
+  // The next cycle starts from the prediction (after a pause, say, or a sheet swapped).
+  void forget_last_track() { last_.valid = false; }
 
   const SensorCloud& last_sheet_cloud() const { return sheet_; }  // for display and debugging
   const std::vector<Eigen::Vector3f>& last_resampled_cloud() const { return resampled_; }
@@ -82,12 +92,25 @@ class SheetTracker {
  private:
   TrackResult run_cycle(const std::vector<drivers::DepthFrame>& frames,
                         const SurfaceMesh& prediction);
+  // The registration of this cycle: warm from the last track when it can, else (or when the
+  // warm fit lost the sheet) from the prediction. Fills the result's registration fields.
+  RegistrationResult register_prediction(const SurfaceMesh& prediction, const PointIndex& cloud,
+                                         TrackResult& r);
+
+  // The last cycle that tracked: its prediction and result on that prediction's mesh.
+  struct LastTrack {
+    bool valid = false;
+    std::vector<Eigen::Vector3i> triangles;
+    std::vector<Vec3> predicted_m, tracked_m;
+    int matched_vertices = 0;
+  };
 
   TrackerConfig config_;
   DepthFusion fusion_;
   SurfaceRegistration registration_;
   SensorCloud fused_, sheet_;  // reused across cycles
   std::vector<Eigen::Vector3f> resampled_;
+  LastTrack last_;
   long cycle_ = 0;
 };
 

@@ -119,7 +119,8 @@ void SurfaceRegistration::prepare_topology(const SurfaceMesh& prediction) {
 }
 
 RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
-                                            const PointIndex& cloud) {
+                                            const PointIndex& cloud,
+                                            const std::vector<Vec3>* start) {
   RegistrationResult result;
   result.vertices_m = prediction.vertices_m;
   const int n = static_cast<int>(prediction.vertices_m.size());
@@ -135,6 +136,8 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
     result.message = "no sheet points to register to";
     return result;
   }
+  const bool warm = start && start->size() == prediction.vertices_m.size() &&
+                    std::all_of(start->begin(), start->end(), [](const Vec3& v) { return v.allFinite(); });
   prepare_topology(prediction);
   Solver& s = *solver_;
   const std::vector<Vec3>& p = prediction.vertices_m;
@@ -160,6 +163,7 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
   }
 
   std::vector<Vec3>& x = result.vertices_m;
+  if (warm) x = *start;
   std::vector<int> match(n, -1), owner;
   std::vector<float> match_d2, owner_d2;
   std::vector<Eigen::Vector3f> query(n);
@@ -168,8 +172,9 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
   std::vector<std::uint8_t> terms(n);  // 1: matched to the cloud, 2: only pulled by it, 0: neither
   Eigen::MatrixX3d rhs(n, 3);
   PointIndex vertex_index;
-  double gate = o.initial_gate_m;
-  for (int it = 0; it < o.max_iterations; ++it) {
+  double gate = warm ? std::min(o.warm_gate_m, o.initial_gate_m) : o.initial_gate_m;
+  const int max_iterations = warm ? o.warm_max_iterations : o.max_iterations;
+  for (int it = 0; it < max_iterations; ++it) {
     const std::vector<Vec3> normal = vertex_normals(x, prediction.triangles);
     for (int i = 0; i < n; ++i) query[i] = x[i].cast<float>();
     cloud.nearest(query, static_cast<float>(gate), match, match_d2);
@@ -246,16 +251,20 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
       result.vertices_m = prediction.vertices_m;
       return result;
     }
-    double largest_step = 0.0;
+    // Convergence by the RMS vertex move. The largest single move is no test: on the tracker
+    // benchmark's scene it stayed at 0.4-0.7 mm an iteration, at every iteration, while the RMS
+    // move fell to 0.1-0.2 mm, so it never ended a fit early.
+    double squared_steps = 0.0;
     for (int i = 0; i < n; ++i) {
       const Vec3 next = solution.row(i).transpose();
-      largest_step = std::max(largest_step, (next - x[i]).norm());
+      squared_steps += (next - x[i]).squaredNorm();
       x[i] = next;
     }
+    const double rms_step = std::sqrt(squared_steps / n);
     result.iterations = it + 1;
     const bool gate_final = gate <= o.final_gate_m;
     gate = std::max(0.5 * gate, o.final_gate_m);
-    if (gate_final && largest_step < o.converged_step_m) break;
+    if (gate_final && rms_step < o.converged_step_m) break;
   }
 
   for (int i = 0; i < n; ++i) query[i] = x[i].cast<float>();

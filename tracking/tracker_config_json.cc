@@ -180,6 +180,10 @@ TrackerConfig parse_tracker_config(const std::string& text, const std::string& s
     f.number("prior_weight", r.prior_weight, 0.0, kInf, true);
     f.number("converged_step_m", r.converged_step_m, 0.0, 1.0);
     f.number("observed_distance_m", r.observed_distance_m, 0.0, 1.0, true);
+    f.boolean("warm_start", r.warm_start);
+    f.number("warm_gate_m", r.warm_gate_m, 0.0, 10.0, true);
+    f.integer("warm_max_iterations", r.warm_max_iterations, 1, 100);
+    f.number("warm_min_matched_fraction", r.warm_min_matched_fraction, 0.0, 1.0);
     f.no_others();
     if (r.final_gate_m > r.initial_gate_m) {
       f.fail("registration.final_gate_m", "at most registration.initial_gate_m");

@@ -30,7 +30,9 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
                      "color": {"max_value": 0.5, "hue_deg": [340, 20], "unknown": "reject"}},
     "resample": {"voxel_m": 0.01, "remove_outliers": true},
     "registration": {"max_iterations": 3, "smoothing_length_m": 0.05, "stretch_weight": 4,
-                     "use_rest_lengths": false, "cloud_stride": 2},
+                     "use_rest_lengths": false, "cloud_stride": 2, "warm_start": false,
+                     "warm_gate_m": 0.05, "warm_max_iterations": 4,
+                     "warm_min_matched_fraction": 0.8},
     "coverage": {"radius_m": 0.015, "min_points": 4},
     "calibration": {"every_n_cycles": 30, "max_median_m": 0.004},
     "min_sheet_points": 500
@@ -49,6 +51,10 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
   CHECK(c.registration.stretch_weight == 4.0);
   CHECK_FALSE(c.registration.use_rest_lengths);
   CHECK(c.registration.cloud_stride == 2);
+  CHECK_FALSE(c.registration.warm_start);
+  CHECK(c.registration.warm_gate_m == 0.05);
+  CHECK(c.registration.warm_max_iterations == 4);
+  CHECK(c.registration.warm_min_matched_fraction == 0.8);
   CHECK(c.coverage.min_points == 4);
   CHECK(c.calibration.every_n_cycles == 30);
   CHECK(c.calibration.max_median_m == 0.004);
@@ -66,6 +72,10 @@ TEST_CASE("tracker config: errors name the file and the field", "[tracker][confi
              Catch::Contains("segmentation.color.unknown") && Catch::Contains("\"maybe\""));
   CHECK_THAT(error_of(R"({"registration": {"final_gate_m": 0.5}})"),
              Catch::Contains("registration.final_gate_m"));
+  CHECK_THAT(error_of(R"({"registration": {"warm_gate_m": 0}})"),
+             Catch::Contains("registration.warm_gate_m"));
+  CHECK_THAT(error_of(R"({"registration": {"warm_min_matched_fraction": 1.5}})"),
+             Catch::Contains("registration.warm_min_matched_fraction"));
   CHECK_THAT(error_of(R"({"calibration": {"enabled": "yes"}})"),
              Catch::Contains("calibration.enabled"));
   CHECK_THAT(error_of("{\"fusion\": {\n  \"pixel_stride\": 2,\n}"),
