@@ -18,7 +18,8 @@ std::string resolve(const std::filesystem::path& base, const std::string& file) 
 void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
   f.only_keys({"lcm_url", "cycle_hz", "min_cameras", "robot_status_timeout_ms", "camera_stale_ms",
                "startup_timeout_s", "camera_startup_timeout_s", "arm_status_timeout_s",
-               "hold_tolerance_m", "move_speed_m_s", "joint_speed_scale", "release_timeout_s"});
+               "hold_tolerance_m", "move_speed_m_s", "joint_speed_scale", "release_timeout_s",
+               "twin_lockstep"});
   if (auto v = f.optional("lcm_url")) s.lcm_url = v->string();
   if (auto v = f.optional("cycle_hz")) s.cycle_hz = v->positive("1/s");
   if (auto v = f.optional("min_cameras")) s.min_cameras = v->positive_integer();
@@ -37,6 +38,10 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
     if (s.joint_speed_scale > 1.0) v->fail("must be in (0, 1]");
   }
   if (auto v = f.optional("release_timeout_s")) s.release_timeout_s = v->positive("s");
+  if (auto v = f.optional("twin_lockstep")) {
+    if (!v->json().is_boolean()) v->fail("must be true or false");
+    s.twin_lockstep = v->json().get<bool>();
+  }
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 // drivers/camera_config_json.h and "arms"/"grippers" to drivers/cell_hardware_config.h; this
 // file owns the other keys (every one optional unless marked required; unknown keys are errors):
 //   "cell": {"lcm_url": "udpm://239.255.76.67:7667?ttl=0",  (LCM provider; --lcm overrides)
-//            "cycle_hz": 15,                  (cycle rate, 1/s; the twin's dt = 1 / cycle_hz)
+//            "cycle_hz": 15,                  (cycle rate, 1/s; the twin's dt = 1 / cycle_hz
+//                                              per cycle its step spans)
 //            "min_cameras": 2,                (fewer fresh cameras -> SAFE_HOLD; fewer than all
 //                                              but at least this many -> DEGRADED)
 //            "robot_status_timeout_ms": 250,  (an arm status older than this -> SAFE_HOLD, ms)
@@ -16,8 +17,12 @@
 //                                              hold position at start-up, m)
 //            "move_speed_m_s": 0.05,          (jaw speed of "move" actions, m/s, <= 0.05)
 //            "joint_speed_scale": 0.25,       (fraction of the iiwa joint velocity limits)
-//            "release_timeout_s": 2},         (no gripper status after a release command for
+//            "release_timeout_s": 2,          (no gripper status after a release command for
 //                                              this long: the twin releases anyway, s)
+//            "twin_lockstep": false},         (true: every cycle waits for the twin's step;
+//                                              false: a cycle never waits, a step that is still
+//                                              running is taken up by a later cycle, and the
+//                                              next step covers the cycles it spanned)
 //   "twin": {"material_file": "composite.json",   (required; relative to this file)
 //            "sheet": {...}},                      (required; twin/sheet_spec.h; without a
 //                                                    "placement" the flat start is centred under
@@ -51,6 +56,7 @@ struct CellSettings {
   double move_speed_m_s = 0.05;
   double joint_speed_scale = 0.25;
   double release_timeout_s = 2.0;
+  bool twin_lockstep = false;
 };
 
 struct CellConfig {

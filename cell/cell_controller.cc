@@ -23,12 +23,16 @@ CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fau
       std::string(drivers::channels::kSimFault), [this](const prepreg_lcm::sim_fault_t& msg) {
         // Only fake hardware injects faults, and only the twin's are the cell's to act on.
         if (!fault_injection_ || msg.target != "twin") return;
-        if (msg.fault != "diverge") {
+        if (msg.fault == "diverge") {
+          if (twin_) twin_->set_poisoned(msg.active);
+          poison_requested_ = msg.active;
+        } else if (msg.fault == "slow") {
+          const auto stall = std::chrono::milliseconds(msg.active ? static_cast<int>(3e3 * period_s()) : 0);
+          if (twin_) twin_->set_stall(stall);
+          stall_requested_ = stall;
+        } else {
           ++faults_dropped_;  // a twin fault the cell does not know: dropped, counted
-          return;
         }
-        if (twin_) twin_->set_poisoned(msg.active);
-        poison_requested_ = msg.active;
       }));
 }
 

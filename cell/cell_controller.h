@@ -5,8 +5,10 @@
 //   watchdog -> CELL_STATE -> robot commands (only RUNNING / DEGRADED).
 // The bus is handled on the caller's thread inside startup() and cycle(); nothing here throws
 // after construction. With fault_injection the cell obeys SIM_FAULT {target "twin", fault
-// "diverge"} by poisoning its twin steps until the fault is cleared; without it SIM_FAULT is
-// ignored (a real cell must never act on it).
+// "diverge"} by poisoning its twin steps, and {target "twin", fault "slow"} by making each step
+// three periods longer, until the fault is cleared; without it SIM_FAULT is ignored (a real
+// cell must never act on it).
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -32,7 +34,9 @@ struct CycleReport {
   CellState state = CellState::kStarting;
   int frames = 0;
   bool tracked = false;       // the tracker produced a surface
-  bool twin_stepped = false;  // the twin's step succeeded (its state was published)
+  bool twin_ok = false;       // the twin is healthy: this cycle published its prediction
+  bool twin_stepped = false;  // a twin step finished in this cycle and succeeded
+  double twin_step_dt_s = 0;  // that step's dt: one period per cycle it spans
   VertexError error;          // tracked vs predicted, observed vertices (published)
   double alg1_mean_m = 0, alg1_max_m = 0;  // the paper's Algorithm 1 (points to predicted vertices)
   double tracker_ms = 0, twin_step_ms = 0, cycle_ms = 0;
@@ -72,7 +76,11 @@ class CellController {
   bool released(const std::string& gripper) const;  // the twin's clamp has let go
 
   const twin::GraspPlan& plan() const { return plan_; }
+  // The twin itself: its mesh and plan are fixed; its state may be changing on the twin's
+  // worker thread, so read the sheet's predicted shape from prediction() instead.
   const CellTwin* twin() const { return twin_.get(); }
+  // The twin's newest finished state (3n, cell frame, m), the one the cycle compares and publishes.
+  const twin::VecX& prediction() const { return prediction_; }
   const tracking::TrackResult& last_track() const { return last_track_; }
   // SIM_SHEET_TRUTH (fake hardware): the newest true sheet vertices and their host time (us).
   const std::vector<twin::Vec3>& truth() const { return truth_; }
@@ -91,6 +99,8 @@ class CellController {
   // cell_cycle.cc
   std::vector<twin::Vec3> grasp_positions() const;
   void update_releases(std::int64_t now_us);
+  void submit_twin_work();
+  void collect_twin_work(CycleReport& report);
   void publish_state();
   void publish_cameras(std::int64_t now_us);
 
@@ -106,12 +116,15 @@ class CellController {
   CellStatus status_;
   std::int64_t next_cycle_ = 0;
   std::string twin_problem_;  // "" while the twin is healthy
-  std::int64_t prediction_utime_ = 0;
+  twin::VecX prediction_;      // the twin's newest finished state
+  std::int64_t prediction_utime_ = 0;  // the time it is for
+  std::int64_t twin_cycle_ = 1;        // the cycle the twin's state (or the running step) is for
   tracking::TrackResult last_track_;
   std::vector<twin::Vec3> truth_;
   std::int64_t truth_host_us_ = 0;
   std::uint64_t faults_dropped_ = 0;
   bool poison_requested_ = false;  // SIM_FAULT twin diverge active (kept across re-creation)
+  std::chrono::milliseconds stall_requested_{0};  // SIM_FAULT twin slow: the stall it asks for
   struct Release {
     int grasp = -1, gripper = -1;
     bool commanded = false;
@@ -120,6 +133,15 @@ class CellController {
   };
   std::vector<Release> releases_;
   std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;
+  // What the twin did on its worker: a step or, after a failure, a fresh static equilibrium.
+  struct TwinWork {
+    bool stepped = false;
+    TwinStepResult step;
+    double dt_s = 0;
+    std::string initialise_problem;  // of the re-initialisation, empty when it worked
+    std::int64_t state_utime = 0;    // the time its state is for
+  };
+  std::future<TwinWork> twin_work_;  // valid while the twin's worker has a job of ours
   // Runs the twin's step beside the tracker (cell_cycle.cc). Declared last, so it is destroyed
   // (finishing any step it runs) before the twin is.
   BackgroundWorker twin_worker_;

@@ -13,13 +13,6 @@
 
 namespace cell {
 namespace {
-// What the twin did this cycle: a step, or a fresh static equilibrium after a failure.
-struct TwinWork {
-  bool stepped = false;
-  TwinStepResult step;
-  std::string initialise_problem;  // of the re-initialisation, empty when it worked
-};
-
 double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -65,6 +58,55 @@ void CellController::update_releases(std::int64_t now_us) {
   }
 }
 
+void CellController::submit_twin_work() {
+  // One step from the cycle the twin's state is for to the next cycle, with the clamps where
+  // the grippers are (measured); after a failure, a fresh static equilibrium there instead.
+  const bool step = twin_problem_.empty();
+  const std::int64_t next_cycle = status_.cycle + 1;
+  const double dt_s = static_cast<double>(std::max<std::int64_t>(next_cycle - twin_cycle_, 1)) * period_s();
+  twin_cycle_ = next_cycle;
+  const std::int64_t state_utime = drivers::utime_now() + (step ? static_cast<std::int64_t>(1e6 * period_s()) : 0);
+  const int omp_threads = omp_get_max_threads();
+  twin_work_ = twin_worker_.submit([this, step, dt_s, state_utime, omp_threads, grasps = grasp_positions()] {
+    omp_set_num_threads(omp_threads);
+    TwinWork work;
+    work.stepped = step;
+    work.dt_s = dt_s;
+    work.state_utime = state_utime;
+    if (step) {
+      work.step = twin_->step(dt_s, grasps);
+    } else {
+      work.initialise_problem = twin_->initialise(grasps);
+    }
+    return work;
+  });
+}
+
+void CellController::collect_twin_work(CycleReport& report) {
+  const TwinWork work = twin_work_.get();  // the worker is done with the twin until the next submit
+  if (work.stepped) {
+    report.twin_step_ms = work.step.step_ms;
+    report.twin_stepped = work.step.ok;
+    report.twin_substeps = work.step.substeps;
+    report.twin_step_dt_s = work.dt_s;
+    if (work.step.ok) {
+      prediction_ = twin_->positions();
+      prediction_utime_ = work.state_utime;
+    } else {
+      twin_problem_ = work.step.message;
+    }
+  } else if (work.initialise_problem.empty()) {
+    twin_problem_.clear();
+    prediction_ = twin_->positions();
+    prediction_utime_ = work.state_utime;
+    // The new equilibrium may be far from the last prediction: the tracker's next fit starts
+    // from it with the full gates rather than from the last track's correction.
+    tracker_.forget_last_track();
+  } else {
+    twin_problem_ = "re-initialisation failed: " + work.initialise_problem;
+  }
+}
+
 CycleReport CellController::cycle() {
   const auto t0 = std::chrono::steady_clock::now();
   CycleReport report;
@@ -74,37 +116,25 @@ CycleReport CellController::cycle() {
   std::vector<drivers::DepthFrame> frames;
   cameras_.read_all(frames);
   report.frames = static_cast<int>(frames.size());
-  const bool twin_ok = twin_ && twin_problem_.empty();
   std::int64_t newest_host_us = 0;
   for (const auto& f : frames) newest_host_us = std::max(newest_host_us, f.host_time_us);
   const std::int64_t now_us = drivers::host_clock_us();
   const std::int64_t epoch_minus_host = drivers::utime_now() - now_us;
 
-  // The twin's prediction for this cycle's frames, kept: the twin steps on to the next cycle's
-  // while the tracker compares these frames with it.
-  const twin::VecX predicted = twin_ ? twin_->positions() : twin::VecX();
-
-  // 1. The twin: one step with the clamps where the grippers are (measured), or, after a
-  // failure, a fresh static equilibrium there. It needs nothing the tracker makes, so it runs on
-  // the worker thread beside the tracker (with the cell's OpenMP thread count): a cycle costs the
-  // longer of the two rather than their sum (a moving sheet's step is about half the tracker).
-  update_releases(now_us);
-  std::future<TwinWork> twin_work;
-  if (twin_) {
-    const bool step = twin_problem_.empty();
-    const int omp_threads = omp_get_max_threads();
-    twin_work = twin_worker_.submit([this, step, omp_threads, grasps = grasp_positions()] {
-      omp_set_num_threads(omp_threads);
-      TwinWork work;
-      work.stepped = step;
-      if (step) {
-        work.step = twin_->step(period_s(), grasps);
-      } else {
-        work.initialise_problem = twin_->initialise(grasps);
-      }
-      return work;
-    });
+  // 1. The twin runs on its worker thread beside the tracker: it needs nothing the tracker makes.
+  // A job that has finished is taken up now (in lockstep, the last cycle's always has). While
+  // one runs the twin is not touched here: releases wait, and the cycle compares and publishes
+  // the newest finished state. When the twin is idle the next job starts, so a cycle costs the
+  // tracker's time, not the twin's.
+  if (twin_work_.valid() && twin_work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    collect_twin_work(report);
   }
+  const bool twin_idle = !twin_work_.valid();
+  if (twin_idle) update_releases(now_us);
+  const bool twin_ok = twin_ && twin_problem_.empty();
+  report.twin_ok = twin_ok;
+  const twin::VecX predicted = prediction_;
+  if (twin_ && twin_idle) submit_twin_work();
 
   // 2. Tracking, from the twin's prediction (when it has one).
   if (twin_ok && !frames.empty()) {
@@ -131,25 +161,8 @@ CycleReport CellController::cycle() {
   }
   publish_cameras(now_us);
 
-  // The twin's result.
-  if (twin_work.valid()) {
-    const TwinWork work = twin_work.get();
-    if (work.stepped) {
-      report.twin_step_ms = work.step.step_ms;
-      report.twin_stepped = work.step.ok;
-      report.twin_substeps = work.step.substeps;
-      if (work.step.ok) {
-        prediction_utime_ = drivers::utime_now() + static_cast<std::int64_t>(1e6 * period_s());
-      } else {
-        twin_problem_ = work.step.message;
-      }
-    } else if (work.initialise_problem.empty()) {
-      twin_problem_.clear();
-      prediction_utime_ = drivers::utime_now();
-    } else {
-      twin_problem_ = "re-initialisation failed: " + work.initialise_problem;
-    }
-  }
+  // In lockstep the cycle waits for its twin job, so the watchdog judges this cycle's step.
+  if (config_.cell.twin_lockstep && twin_work_.valid()) collect_twin_work(report);
 
   // 4. Watchdog, state, and robot commands only while it allows them.
   // Statuses that arrived during the cycle count: they are stamped when handled.

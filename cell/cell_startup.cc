@@ -97,7 +97,7 @@ std::string CellController::first_track(double deadline_s) {
     cameras_.read_all(frames);
     handle_bus(0);
     ++attempts;
-    last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), twin_->positions()));
+    last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), prediction_));
     if (last_track_.status != tracking::TrackStatus::kOk) {
       last = std::string(tracking::to_string(last_track_.status)) +
              (last_track_.message.empty() ? "" : ": " + last_track_.message);
@@ -141,7 +141,10 @@ CellState CellController::startup() {
   }
   if (std::string why = twin_->initialise(grasp_positions()); !why.empty()) return fail("twin: " + why);
   twin_->set_poisoned(poison_requested_);
+  twin_->set_stall(stall_requested_);
+  prediction_ = twin_->positions();
   prediction_utime_ = drivers::utime_now();
+  twin_cycle_ = status_.cycle + 1;  // the equilibrium is the first cycle's prediction
   status_.twin_ok = true;
   if (std::string why = first_track(deadline); !why.empty()) return fail(why);
   status_.tracker_ok = true;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace cell {
 
@@ -64,6 +65,7 @@ TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_
     result.message = std::string("twin step threw: ") + e.what();
     return result;
   }
+  if (const int stall = stall_ms_; stall > 0) std::this_thread::sleep_for(std::chrono::milliseconds(stall));
   result.step_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   result.substeps = stepper_->last_substeps();
   result.iterations = r.iterations;

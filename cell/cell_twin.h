@@ -4,6 +4,8 @@
 // backward-Euler step per cycle with the clamps at the measured grasp positions. Failures come
 // back as values (the cycle must not throw); a failed or non-finite step leaves the state as it
 // was and the caller publishes nothing from it.
+#include <atomic>
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,8 +45,12 @@ class CellTwin {
   bool engaged(int grasp) const { return poses_[grasp].engaged; }
   // Fault injection (fake hardware only): while set, every step is fed non-finite clamp
   // positions, so it fails the way a diverging solve does.
+  // (Set from the bus handler while a step may run on the twin's worker: atomic.)
   void set_poisoned(bool poisoned) { poisoned_ = poisoned; }
   bool poisoned() const { return poisoned_; }
+  // Fault injection (fake hardware only): each step takes this much longer, as a twin that
+  // cannot keep up with the cycle would (atomic for the same reason).
+  void set_stall(std::chrono::milliseconds stall) { stall_ms_ = static_cast<int>(stall.count()); }
 
   bool initialised() const { return initialised_; }
   const twin::VecX& positions() const { return x_; }
@@ -61,7 +67,8 @@ class CellTwin {
   std::unique_ptr<twin::StaticSolver> statics_;
   std::unique_ptr<twin::ImplicitStepper> stepper_;
   bool initialised_ = false;
-  bool poisoned_ = false;
+  std::atomic<bool> poisoned_{false};
+  std::atomic<int> stall_ms_{0};
 };
 
 // The flat start when the config gives no placement: unrotated (u along x, v along y), the

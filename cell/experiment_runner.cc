@@ -62,13 +62,13 @@ void ExperimentRunner::on_cycle(CellController& cell, const CycleReport& report)
     case Phase::kWindow: {
       StateResult& r = results_.back();
       ++r.cycles;
-      if (report.tracked && report.twin_stepped) {
+      if (report.tracked && report.twin_ok) {
         r.prediction.add(report.error.mean_m, report.error.max_m);
         r.alg1.add(report.alg1_mean_m, report.alg1_max_m);
         // The truth is compared only when it is recent (one second): an old one is another state.
         const auto& truth = cell.truth();
         if (!truth.empty() && drivers::host_clock_us() - cell.truth_host_us() < 1'000'000) {
-          const tracking::SurfaceMesh twin_mesh = tracking_mesh(cell.twin()->mesh(), cell.twin()->positions());
+          const tracking::SurfaceMesh twin_mesh = tracking_mesh(cell.twin()->mesh(), cell.prediction());
           const SurfaceGap t = points_to_surface(truth, twin_mesh.vertices_m, twin_mesh.triangles);
           const SurfaceGap o = points_to_surface(truth, cell.last_track().vertices_m, twin_mesh.triangles);
           r.twin_vs_truth.add(t.mean_m, t.max_m);

@@ -26,10 +26,10 @@
 // Laplacian plus a diagonal): one sparse Cholesky, three solves. (A Gauss-Newton step on 3n
 // unknowns with the anisotropic point-to-plane and edge-length blocks was measured 12x slower to
 // factorise on the 3111-vertex benchmark mesh.) The iteration reaches the same fixed point: on
-// the planes, edges at rest length. The matrix depends only on which vertices have a match (a
-// vertex with fewer cloud points than typical pulls with that share and is held where it is by
-// the rest), so it is refactorised only when that set changes: in steady tracking not at all,
-// only the solves remain. The symbolic analysis is done once per topology. The gate halves from
+// the planes, edges at rest length. Every vertex carries the data terms' full weight: one
+// without a match (or with fewer cloud points than typical, for that share) is held where it is
+// by it, a term that vanishes at the fixed point. So the matrix depends only on the weights and
+// the mesh: factorised once per topology, and each iteration only solves. The gate halves from
 // initial_gate_m (16 cm, for 10-15 cm offsets) to final_gate_m.
 // Limitation: sliding the whole sheet along itself (a prediction shifted sideways by a few cm)
 // converges slowly: only the border and the weak point-to-point terms see that offset.

@@ -88,8 +88,10 @@ TEST_CASE("parts nobody saw follow the prediction smoothly", "[tracker][registra
     largest_jump = std::max(largest_jump, (da - db).norm());
   }
   // The correction is 2 cm; vertices are 4 cm apart. A smooth displacement changes little from
-  // one vertex to the next; a seen/unseen seam would jump by up to 2 cm.
-  CHECK(largest_jump < 0.004);
+  // one vertex to the next; a seen/unseen seam would jump by up to 2 cm. (Under 4 mm while unseen
+  // vertices were free; 4.5 mm since they are held where they are by the data terms' weight,
+  // which keeps the matrix constant and slows how fast they follow within one fit.)
+  CHECK(largest_jump < 0.005);
   for (std::size_t i = 0; i < r.vertices_m.size(); ++i) {
     const double x = prediction.vertices_m[i].x(), y = prediction.vertices_m[i].y();
     // Border vertices slide along the slope past the edge (see the first test): not judged.
