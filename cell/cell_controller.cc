@@ -10,8 +10,20 @@ double steady_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+namespace {
+// The cell checks the cameras' calibration itself, off the cycle (calibration_monitor.h).
+tracking::TrackerConfig without_calibration_check(tracking::TrackerConfig c) {
+  c.calibration.enabled = false;
+  return c;
+}
+}  // namespace
+
 CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fault_injection)
-    : config_(std::move(config)), bus_(bus), fault_injection_(fault_injection), tracker_(config_.tracker) {
+    : config_(std::move(config)),
+      bus_(bus),
+      fault_injection_(fault_injection),
+      tracker_(without_calibration_check(config_.tracker)),
+      calibration_(config_.tracker.calibration) {
   status_.cameras = static_cast<int>(config_.cameras.size());
   subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sheet_state_t>(
       std::string(drivers::channels::kSimTruth), [this](const prepreg_lcm::sheet_state_t& msg) {

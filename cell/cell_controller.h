@@ -19,6 +19,7 @@
 #include "cell/cell_config.h"
 #include "cell/cell_messages.h"
 #include "cell/background_worker.h"
+#include "cell/calibration_monitor.h"
 #include "cell/cell_twin.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
@@ -108,7 +109,8 @@ class CellController {
   drivers::LcmBus& bus_;
   bool fault_injection_;
   CameraSet cameras_;
-  tracking::SheetTracker tracker_;
+  tracking::SheetTracker tracker_;  // without its own calibration check: calibration_ runs it
+  CalibrationMonitor calibration_;
   twin::GraspPlan plan_;
   twin::Material material_;
   std::unique_ptr<CellTwin> twin_;

@@ -141,6 +141,7 @@ CycleReport CellController::cycle() {
     last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), predicted));
     report.tracker_ms = last_track_.times.total_ms;
     report.tracked = last_track_.status == tracking::TrackStatus::kOk;
+    if (report.tracked) calibration_.after_tracked_cycle(tracker_.last_sheet_cloud(), last_track_.cameras_used);
   }
   status_.tracker_ok = report.tracked;
 
@@ -178,6 +179,7 @@ CycleReport CellController::cycle() {
     const CameraSlot& s = cameras_.slot(i);
     in.lost_cameras.push_back(s.config.name + " (" + (s.last_problem.empty() ? "no fresh frame" : s.last_problem) + ")");
   }
+  in.calibration_problem = calibration_.problem();
   in.twin_ok = twin_problem_.empty();
   in.twin_problem = twin_problem_;
   in.stale_arms = robots_->stale_arms(after_us, config_.cell.robot_status_timeout_ms);

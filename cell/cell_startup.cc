@@ -103,15 +103,8 @@ std::string CellController::first_track(double deadline_s) {
              (last_track_.message.empty() ? "" : ": " + last_track_.message);
       continue;
     }
-    for (const auto& pair : last_track_.calibration) {
-      if (!pair.flagged) continue;
-      return fmt::format("calibration check: cameras {} and {} disagree where both see the sheet "
-                         "(median {:.1f} mm, p90 {:.1f} mm; limits {:.1f} / {:.1f} mm): check camera_to_cell",
-                         last_track_.cameras_used[pair.camera_a], last_track_.cameras_used[pair.camera_b],
-                         1e3 * pair.median_m, 1e3 * pair.p90_m, 1e3 * config_.tracker.calibration.max_median_m,
-                         1e3 * config_.tracker.calibration.max_p90_m);
-    }
-    return "";
+    if (!config_.tracker.calibration.enabled) return "";
+    return calibration_.check_now(tracker_.last_sheet_cloud(), last_track_.cameras_used);
   }
   return fmt::format("tracker: no tracked frame in {} attempts before the start-up timeout ({})", attempts, last);
 }

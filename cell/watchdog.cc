@@ -44,9 +44,14 @@ WatchdogVerdict judge(const WatchdogInputs& in) {
   if (!causes.empty()) {
     v.state = CellState::kSafeHold;
     v.reason = join(causes, "; ");
-  } else if (!in.lost_cameras.empty()) {
+  } else if (!in.lost_cameras.empty() || !in.calibration_problem.empty()) {
     v.state = CellState::kDegraded;
-    v.reason = fmt::format("{} of {} cameras fresh: lost {}", fresh, in.cameras, join(in.lost_cameras));
+    std::vector<std::string> why;
+    if (!in.lost_cameras.empty()) {
+      why.push_back(fmt::format("{} of {} cameras fresh: lost {}", fresh, in.cameras, join(in.lost_cameras)));
+    }
+    if (!in.calibration_problem.empty()) why.push_back(in.calibration_problem);
+    v.reason = join(why, "; ");
   }
   return v;
 }

@@ -3,7 +3,8 @@
 // on its own and the cell recovers by itself the cycle a cause clears:
 //   fresh cameras < min_cameras, a twin failure, or an arm status older than the timeout
 //       -> SAFE_HOLD (no robot or gripper commands), the reason names every cause;
-//   otherwise fewer fresh cameras than configured -> DEGRADED naming the lost cameras;
+//   otherwise fewer fresh cameras than configured, or cameras that disagree where they see the
+//       same part of the sheet (calibration check) -> DEGRADED naming them;
 //   otherwise RUNNING.
 #include <cstdint>
 #include <string>
@@ -26,6 +27,7 @@ struct WatchdogInputs {
   int cameras = 0;
   int min_cameras = 1;
   std::vector<std::string> lost_cameras;  // not fresh, each "name (why)"
+  std::string calibration_problem;        // "" while the cameras agree
   bool twin_ok = true;
   std::string twin_problem;
   std::vector<std::string> stale_arms;    // no IIWA_STATUS within the timeout

@@ -173,11 +173,11 @@ std::string message_problem(const prepreg_lcm::gripper_status_t& msg) {
 
 std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
   if (msg.target.empty()) return "target is empty";
-  static const char* const kFaults[] = {"dead", "frozen", "stale", "drop", "status_silent", "diverge", "slow"};
+  static const char* const kFaults[] = {"dead", "frozen", "stale", "drop", "bumped", "status_silent", "diverge", "slow"};
   for (const char* f : kFaults) {
     if (msg.fault == f) return "";
   }
-  return "fault '" + msg.fault + "' is not one of dead, frozen, stale, drop, status_silent, diverge, slow";
+  return "fault '" + msg.fault + "' is not one of dead, frozen, stale, drop, bumped, status_silent, diverge, slow";
 }
 
 std::string message_problem(const lcmt_iiwa_command& msg) {

@@ -10,6 +10,9 @@
 //  - stale timestamps: kStopped, the device clock stops (every frame carries the timestamp of
 //    stale_from_s); kLagging, frames arrive stale_lag_s late (content and device time are that
 //    old, host time is now).
+//  - bumped camera: knocked on its mount, it sees the cell from its pose moved by
+//    (bump_x_m, bump_y_m, bump_z_m) in its own frame while the frames still carry the configured
+//    camera_to_cell, as a real one would; only a calibration check can tell.
 // The camera only reports what a driver would know (kLost, kTimeout); spotting frozen and stale
 // streams is the consumer's job (the generic monitor in drivers/).
 
@@ -31,6 +34,8 @@ struct D415FaultConfig {
   double stale_from_s = kNever, stale_until_s = kNever;
   StaleMode stale_mode = StaleMode::kStopped;
   double stale_lag_s = 1.0;
+  double bumped_from_s = kNever, bumped_until_s = kNever;
+  double bump_x_m = 0.0, bump_y_m = 0.0, bump_z_m = 0.0;  // camera frame
 };
 
 inline bool in_window(double t, double from, double until) { return t >= from && t < until; }

@@ -73,6 +73,10 @@ bool EmulatedCameraRig::apply_fault(const std::string& fault, bool active) {
   } else if (fault == "drop") {
     if (active) f.drop_probability = 0.5, f.drop_from_s = t, f.drop_until_s = never;
     else f.drop_until_s = std::min(f.drop_until_s, t);
+  } else if (fault == "bumped") {
+    // Knocked 1 cm sideways on its mount (the check flags 1 cm or 1 degree).
+    if (active) f.bumped_from_s = t, f.bumped_until_s = never, f.bump_x_m = 0.01;
+    else f.bumped_until_s = std::min(f.bumped_until_s, t);
   } else {
     return false;
   }

@@ -200,7 +200,11 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
       frame.depth_mm = last_depth_;
       frame.rgb = last_rgb_;
     } else {
-      render(content_t, frame);
+      const bool bumped = in_window(t, f.bumped_from_s, f.bumped_until_s);
+      const Eigen::Isometry3d pose =
+          bumped ? config_.camera_to_cell * Eigen::Translation3d(f.bump_x_m, f.bump_y_m, f.bump_z_m)
+                 : config_.camera_to_cell;
+      render(content_t, pose, frame);
       last_depth_ = frame.depth_mm;
       last_rgb_ = frame.rgb;
     }
@@ -221,21 +225,21 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
   return ReadStatus::kFrame;
 }
 
-void SimulatedD415Camera::render(double t_s, drivers::DepthFrame& frame) {
+void SimulatedD415Camera::render(double t_s, const Eigen::Isometry3d& camera_to_cell, drivers::DepthFrame& frame) {
   static const RenderScene kEmpty;
   const std::shared_ptr<const RenderScene> snapshot = options_.scene(t_s);
   const RenderScene& scene = snapshot ? *snapshot : kEmpty;
   const auto& noise = options_.noise;
   const Eigen::Isometry3d right_in_depth = Eigen::Isometry3d(Eigen::Translation3d(kD415BaselineM, 0, 0));
-  render_view(scene, config_.camera_to_cell, depth_k_, left_);
-  if (noise.stereo_shadow) render_view(scene, config_.camera_to_cell * right_in_depth, depth_k_, right_);
+  render_view(scene, camera_to_cell, depth_k_, left_);
+  if (noise.stereo_shadow) render_view(scene, camera_to_cell * right_in_depth, depth_k_, right_);
   make_depth_image(left_, noise.stereo_shadow ? &right_ : nullptr, depth_k_, right_in_depth, noise,
                    config_.depth_unit_mm, noise_rng_, frame.depth_mm);
   if (color_k_.width == 0) {
     frame.rgb.clear();
     return;
   }
-  const Eigen::Isometry3d color_to_cell = config_.camera_to_cell * depth_to_color_.inverse();
+  const Eigen::Isometry3d color_to_cell = camera_to_cell * depth_to_color_.inverse();
   render_view(scene, color_to_cell, color_k_, color_);
   const Eigen::Vector3d light = color_to_cell.linear().transpose() * scene.light_direction_cell;
   make_color_image(color_, scene, light, noise, noise_rng_, frame.rgb);

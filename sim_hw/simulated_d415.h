@@ -64,7 +64,8 @@ class SimulatedD415Camera : public drivers::DepthCamera {
   double now_s() const;
   void wait_until(double t_s);
   bool dropped(const D415FaultConfig& faults, std::uint64_t index, double t_s);
-  void render(double t_s, drivers::DepthFrame& frame);
+  // Renders the scene at t_s as seen from camera_to_cell (the configured pose, or a bumped one).
+  void render(double t_s, const Eigen::Isometry3d& camera_to_cell, drivers::DepthFrame& frame);
 
   SimulatedD415Options options_;
   drivers::CameraConfig config_;

@@ -99,4 +99,20 @@ TEST_CASE("watchdog: cameras, twin and arms decide the state", "[cell]") {
   CHECK(v.state == cell::CellState::kSafeHold);
   CHECK_THAT(v.reason, Contains("no arm status within 250 ms from CENTER"));
   CHECK_FALSE(v.robots_ok);
+
+  // Cameras that disagree degrade the cell (tracking goes on, the engineer is told which pair);
+  // a cause for SAFE_HOLD still wins.
+  const std::string disagree = "calibration check: cameras cam_front and cam_left disagree";
+  in.calibration_problem = disagree;
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kSafeHold);
+  in.stale_arms.clear();
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kDegraded);
+  CHECK(v.reason == disagree);
+  CHECK(cell::may_command(v.state));
+  in.lost_cameras = {"cam_right (lost)"};
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kDegraded);
+  CHECK_THAT(v.reason, Contains("lost cam_right") && Contains(disagree));
 }

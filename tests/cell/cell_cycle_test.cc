@@ -99,6 +99,23 @@ TEST_CASE("watchdog: one camera dead -> DEGRADED, two -> SAFE_HOLD without comma
   CHECK(t.responder->all_commands() > commands);
 }
 
+TEST_CASE("watchdog: a camera knocked out of calibration while running -> DEGRADED naming the pair, then back",
+          "[cell]") {
+  cell_test::RigFiles files = fast_files();
+  files.config["tracker"]["calibration"] = {{"every_n_cycles", 2}};
+  cell_test::CellUnderTest t(files);
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  REQUIRE(is(t.run(4), CellState::kRunning));
+  t.cameras->bump(1, 0.02);  // cam_left, 2 cm sideways
+  cell::CycleReport r = t.run(40, [](const auto& r) { return is(r, CellState::kDegraded); });
+  REQUIRE(r.state == CellState::kDegraded);
+  CHECK_THAT(t.controller->reason(), Contains("calibration check") && Contains("cam_left"));
+  CHECK(r.commanded);  // tracking and commands go on; the engineer is told
+  t.cameras->bump(1, 0.0);
+  r = t.run(40, [](const auto& r) { return is(r, CellState::kRunning); });
+  CHECK(r.state == CellState::kRunning);
+}
+
 TEST_CASE("watchdog: an arm whose status stops -> SAFE_HOLD naming it, then recovery", "[cell]") {
   cell_test::CellUnderTest t(fast_files());
   REQUIRE(t.controller->startup() == CellState::kReady);

@@ -103,6 +103,13 @@ void SimCameras::revive(int i) {
   camera(i).set_faults(f);
 }
 
+void SimCameras::bump(int i, double x_m) {
+  sim_hw::D415FaultConfig f = camera(i).faults();
+  f.bumped_from_s = x_m != 0.0 ? 0.0 : sim_hw::D415FaultConfig::kNever;
+  f.bump_x_m = x_m;
+  camera(i).set_faults(f);
+}
+
 Responder::Responder(drivers::LcmBus& bus, const cell::CellConfig& config) : bus_(bus), config_(config) {
   const twin::GraspPlan plan = twin::read_grasp_plan(config.plan_file);
   for (const auto& g : config.hardware.grippers) {

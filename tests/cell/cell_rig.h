@@ -44,6 +44,8 @@ class SimCameras {
   void kill(int i);
   void revive(int i);
   void kill_from_start(int i) { dead_from_start_.push_back(i); }
+  // Camera i knocked on its mount: it sees the cell from `x_m` along its own x (0: back in place).
+  void bump(int i, double x_m);
   // The true sheet's vertices (cell frame, m), as the fake world publishes on SIM_SHEET_TRUTH.
   const std::vector<Eigen::Vector3d>& truth() const { return scene_->meshes.front().vertices; }
 
