@@ -1,5 +1,6 @@
 #include "cell/cell_controller.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "drivers/lcm_channels.h"
@@ -16,10 +17,18 @@ tracking::TrackerConfig without_calibration_check(tracking::TrackerConfig c) {
   c.calibration.enabled = false;
   return c;
 }
+
+// The cameras' frame period (s): the fastest configured rate; 0 when no camera says.
+double frame_period_s(const std::vector<drivers::CameraConfig>& cameras) {
+  int fps = 0;
+  for (const auto& c : cameras) fps = std::max(fps, c.depth_mode.fps);
+  return fps > 0 ? 1.0 / fps : 0.0;
+}
 }  // namespace
 
 CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fault_injection)
     : config_(std::move(config)),
+      pacer_(1.0 / config_.cell.cycle_hz, frame_period_s(config_.cameras)),
       bus_(bus),
       fault_injection_(fault_injection),
       tracker_(without_calibration_check(config_.tracker)),
@@ -52,6 +61,10 @@ CellController::~CellController() {
   for (auto id : subscriptions_) bus_.unsubscribe(id);
   robots_.reset();
   cameras_.close();
+}
+
+std::int64_t CellController::next_cycle_start_us(std::int64_t last_start_us, const CycleReport& last) const {
+  return pacer_.next_start_us(last_start_us, last.newest_frame_host_us, drivers::host_clock_us());
 }
 
 void CellController::handle_bus(int ms) {

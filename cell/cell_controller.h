@@ -21,6 +21,7 @@
 #include "cell/background_worker.h"
 #include "cell/calibration_monitor.h"
 #include "cell/cell_twin.h"
+#include "cell/cycle_pacer.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
 #include "drivers/lcm_bus.h"
@@ -43,6 +44,8 @@ struct CycleReport {
   double tracker_ms = 0, twin_step_ms = 0, cycle_ms = 0;
   int twin_substeps = 0;      // sub-steps the twin's step needed (1 normally)
   double latency_ms = -1;     // newest frame's arrival -> PREDICTION_ERROR published
+  double frame_age_ms = -1;   // newest frame's arrival -> the cycle has its frames (part of latency)
+  std::int64_t newest_frame_host_us = 0;  // the newest frame's arrival (host_clock_us), 0: none
   bool commanded = false;     // robot commands were sent this cycle
 };
 
@@ -67,6 +70,9 @@ class CellController {
   const std::string& reason() const { return status_.reason; }
   const CellConfig& config() const { return config_; }
   double period_s() const { return 1.0 / config_.cell.cycle_hz; }
+  // When the next cycle should start (host_clock_us): after `last`, which started at
+  // last_start_us, at the cycle period moved to just after the cameras' next frame (cycle_pacer.h).
+  std::int64_t next_cycle_start_us(std::int64_t last_start_us, const CycleReport& last) const;
 
   // For the experiment: move a gripper's jaw target (straight line at the configured speed) and
   // release a gripper (GRIPPER_COMMAND open once commands are allowed; the twin lets go when
@@ -106,6 +112,7 @@ class CellController {
   void publish_cameras(std::int64_t now_us);
 
   CellConfig config_;
+  CyclePacer pacer_;
   drivers::LcmBus& bus_;
   bool fault_injection_;
   CameraSet cameras_;

@@ -120,6 +120,8 @@ CycleReport CellController::cycle() {
   for (const auto& f : frames) newest_host_us = std::max(newest_host_us, f.host_time_us);
   const std::int64_t now_us = drivers::host_clock_us();
   const std::int64_t epoch_minus_host = drivers::utime_now() - now_us;
+  report.newest_frame_host_us = newest_host_us;
+  if (newest_host_us > 0) report.frame_age_ms = 1e-3 * static_cast<double>(now_us - newest_host_us);
 
   // 1. The twin runs on its worker thread beside the tracker: it needs nothing the tracker makes.
   // A job that has finished is taken up now (in lockstep, the last cycle's always has). While

@@ -6,7 +6,7 @@
 // (one gripper's goal moved back and forth, so the twin steps a moving clamp under load).
 //
 //   cell_benchmark [--seconds S] [--triangles 6000] [--hz 30] [--memory-every-s 60]
-//                  [--session DIR] [--phase both|still|moving] [--threads 1]
+//                  [--session DIR] [--phase both|still|moving] [--threads 1] [--lockstep]
 //
 // Prints per phase a line "figure: cell 848x480x3 twin N tris (PHASE): rate .. Hz latency median
 // .. ms p99 .. ms tracker .. twin step .. cycle ..", "memory: t=.. s rss=.. MB" every
@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
   app.add_option("--sweep-m", sweep_m, "moving phase: how far the gripper goal moves along x (m)");
   app.add_option("--threads", threads, "OpenMP threads of the tracker and twin (cell_controller's default 1)")
       ->check(CLI::PositiveNumber);
+  bool lockstep = false;
+  app.add_flag("--lockstep", lockstep, "cell.twin_lockstep: every cycle waits for the twin's step");
   app.add_option("--config", cell_path, "cell config (default: the fake cell)");
   app.add_option("--world", world_path, "world config (default: the fake world)");
   CLI11_PARSE(app, argc, argv);
@@ -85,6 +87,7 @@ int main(int argc, char** argv) {
                  session_dir.string(), since(t0));
     }
     config = cell_bench::bench_cell_config(cell_path, session_dir, hz, triangles, work);
+    config.cell.twin_lockstep = lockstep;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_benchmark: {}\n", e.what());
     return 1;
@@ -100,8 +103,9 @@ int main(int argc, char** argv) {
       fmt::print("cell_benchmark: start-up FAILED: {}\n", cell.reason());
       exit_code = 2;
     } else {
-      fmt::print("cell_benchmark: READY ({} cameras, twin {} triangles, {} Hz, {} OpenMP thread(s))\n",
-                 config.cameras.size(), config.sheet.mesh.triangle_count(), hz, threads);
+      fmt::print("cell_benchmark: READY ({} cameras, twin {} triangles, {} Hz, {} OpenMP thread(s), twin {})\n",
+                 config.cameras.size(), config.sheet.mesh.triangle_count(), hz, threads,
+                 lockstep ? "in lockstep" : "at its own pace");
       std::fflush(stdout);
       const std::string label = fmt::format("cell {}x{}x{} twin {} tris", config.cameras.front().depth_mode.width,
                                             config.cameras.front().depth_mode.height, config.cameras.size(),
@@ -109,7 +113,6 @@ int main(int argc, char** argv) {
       std::vector<std::string> phases;
       if (phase != "moving") phases.push_back("still");
       if (phase != "still") phases.push_back("moving");
-      const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / hz));
       const auto run_start = Clock::now();
       cell::CellState last_state = cell::CellState::kReady;
       for (const std::string& name : phases) {
@@ -121,13 +124,13 @@ int main(int argc, char** argv) {
         if (!gripper.empty()) cell.set_goal(gripper, twin::Vec3(hold + twin::Vec3(sweep_m, 0, 0)));
         cell_bench::CycleFigures figures;
         const auto phase_start = Clock::now();
-        auto next = phase_start;
         while (since(phase_start) < warmup_s + seconds) {
           if (!gripper.empty() && cell.at_goal(gripper)) {
             out = !out;
             cell.set_goal(gripper, out ? twin::Vec3(hold + twin::Vec3(sweep_m, 0, 0)) : hold);
             figures.count_sweep();
           }
+          const std::int64_t cycle_start_us = drivers::host_clock_us();
           const cell::CycleReport r = cell.cycle();
           if (r.state != last_state) {  // say why the cell left RUNNING (the figures include it)
             fmt::print("state: {} at t={:.2f} s{}{}\n", cell::to_string(r.state), since(run_start),
@@ -139,17 +142,17 @@ int main(int argc, char** argv) {
             if (r.tracked) figures.add_tracker_cycle(cell.last_track());
           }
           memory.poll(since(run_start));
-          next += period;
-          if (next < Clock::now()) next = Clock::now();  // late: the next cycle starts at once
+          // As cell_controller paces: a period on, just after the cameras' next frame; late: at once.
+          const std::int64_t next_us = cell.next_cycle_start_us(cycle_start_us, r);
           while (true) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now());
-            if (left.count() <= 0) break;
-            cell.handle_bus(static_cast<int>(left.count()));
+            const std::int64_t left_ms = (next_us - drivers::host_clock_us()) / 1000;
+            if (left_ms <= 0) break;
+            cell.handle_bus(static_cast<int>(left_ms));
           }
         }
         if (!gripper.empty()) cell.set_goal(gripper, hold);
         fmt::print("{}\n", figures.line(label, name));
-        fmt::print("{}\n", figures.verdict(hz));
+        fmt::print("{}\n", figures.verdict(hz, lockstep));
         fmt::print("{}\n", figures.tracker_stages_line());
         std::fflush(stdout);
         if (figures.cycles() == 0) exit_code = 3;

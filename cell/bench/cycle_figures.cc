@@ -25,6 +25,7 @@ void CycleFigures::add(const cell::CycleReport& r) {
   ++states_[cell::to_string(r.state)];
   if (r.tracked) ++tracked_;
   if (r.latency_ms >= 0) latency_ms_.push_back(r.latency_ms);
+  if (r.latency_ms >= 0 && r.frame_age_ms >= 0) frame_age_ms_.push_back(r.frame_age_ms);
   if (r.frames > 0) tracker_ms_.push_back(r.tracker_ms);
   if (r.twin_stepped) twin_ms_.push_back(r.twin_step_ms);
   cycle_ms_.push_back(r.cycle_ms);
@@ -39,10 +40,12 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
   std::string states;
   for (const auto& [state, n] : states_) states += fmt::format("{}{} {}", states.empty() ? "" : ", ", state, n);
   return fmt::format(
-      "figure: {} ({}): rate {:.1f} Hz latency median {:.1f} ms p99 {:.1f} ms | tracker median {:.1f} p99 {:.1f} ms"
+      "figure: {} ({}): rate {:.1f} Hz latency median {:.1f} ms p99 {:.1f} ms (frame age at read median {:.1f} p99 {:.1f})"
+      " | tracker median {:.1f} p99 {:.1f} ms"
       " | twin step median {:.1f} p99 {:.1f} ms | cycle median {:.1f} p99 {:.1f} ms | {} cycles, {} tracked,"
       " {} twin steps, {} latencies, {} goal sweeps, states: {} | {}",
       label, phase, rate_hz(), percentile(latency_ms_, 0.5), percentile(latency_ms_, 0.99),
+      percentile(frame_age_ms_, 0.5), percentile(frame_age_ms_, 0.99),
       percentile(tracker_ms_, 0.5), percentile(tracker_ms_, 0.99), percentile(twin_ms_, 0.5),
       percentile(twin_ms_, 0.99), percentile(cycle_ms_, 0.5), percentile(cycle_ms_, 0.99), cycles_, tracked_,
       twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
@@ -76,7 +79,7 @@ std::string CycleFigures::tracker_stages_line() const {
   return s;
 }
 
-std::string CycleFigures::verdict(double target_hz) const {
+std::string CycleFigures::verdict(double target_hz, bool lockstep) const {
   const double rate = rate_hz(), p99 = percentile(latency_ms_, 0.99);
   // A rate within 2% of the target counts as met: the pacing loop starts late cycles at once,
   // so a cell that keeps up runs at the target minus timer jitter.
@@ -88,8 +91,13 @@ std::string CycleFigures::verdict(double target_hz) const {
   if (latency_ms_.empty()) s += " no latency measured (no frame led to a published error);";
   else if (!latency_ok) s += fmt::format(" latency p99 {:.1f} ms is {:.1f} ms over;", p99, p99 - kLatencyTargetP99Ms);
   const double tracker = percentile(tracker_ms_, 0.5), twin = percentile(twin_ms_, 0.5);
-  return s + fmt::format(" dominant stage: {} (medians tracker {:.1f} ms, twin step {:.1f} ms, cycle budget {:.1f} ms)",
-                         tracker >= twin ? "tracker" : "twin", tracker, twin, 1e3 / target_hz);
+  const double age = percentile(frame_age_ms_, 0.99);
+  // The twin holds a cycle back only in lockstep; otherwise it steps at its own pace.
+  const bool twin_holds = lockstep && twin > tracker;
+  return s + fmt::format(" dominant stage: {} (medians tracker {:.1f} ms, twin step {:.1f} ms{}, cycle budget {:.1f} ms;"
+                         " frame age at read p99 {:.1f} ms)",
+                         twin_holds ? "twin" : "tracker", tracker, twin, lockstep ? "" : " at its own pace",
+                         1e3 / target_hz, age);
 }
 
 double rss_mb() {

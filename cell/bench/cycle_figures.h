@@ -23,8 +23,9 @@ class CycleFigures {
   int cycles() const { return cycles_; }
   double rate_hz() const;  // cycles per second between the first and the last added cycle
   std::string line(const std::string& label, const std::string& phase) const;
-  // "target: ... met" or "target: ... NOT met by ...; dominant stage ...".
-  std::string verdict(double target_hz) const;
+  // "target: ... met" or "target: ... NOT met by ...; dominant stage ..." (the twin's step
+  // holds a cycle back only when the cell runs it in lockstep).
+  std::string verdict(double target_hz, bool lockstep) const;
   // "tracker stages (median ms): fusion .. | registration iterations .. | resampled points .."
   // (calibration as p99: it runs every n-th cycle only).
   std::string tracker_stages_line() const;
@@ -32,7 +33,7 @@ class CycleFigures {
  private:
   int cycles_ = 0, tracked_ = 0, sweeps_ = 0;
   std::chrono::steady_clock::time_point first_, last_;
-  std::vector<double> latency_ms_, tracker_ms_, twin_ms_, cycle_ms_;
+  std::vector<double> latency_ms_, frame_age_ms_, tracker_ms_, twin_ms_, cycle_ms_;
   std::map<std::string, int> states_;
   struct TrackerCycle {
     tracking::StageTimes times;

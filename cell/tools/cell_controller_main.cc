@@ -102,15 +102,14 @@ int main(int argc, char** argv) {
 
   std::optional<cell::ExperimentRunner> runner;
   if (!experiment.states.empty()) runner.emplace(experiment);
-  const auto period = std::chrono::duration<double>(cell.period_s());
   const auto start = std::chrono::steady_clock::now();
-  auto next = start;
   auto last_line = start;
   std::vector<double> latency, twin_ms;
   double error_mean = 0, error_max = 0;
   int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
   bool experiment_printed = false;
   while (!g_stop) {
+    const std::int64_t cycle_start_us = drivers::host_clock_us();
     const cell::CycleReport r = cell.cycle();
     if (runner) runner->on_cycle(cell, r);
     ++cycles_in_line;
@@ -147,13 +146,13 @@ int main(int argc, char** argv) {
       if (exit_after) break;
     }
     if (max_seconds > 0 && std::chrono::duration<double>(now - start).count() >= max_seconds) break;
-    // Sleep to the next period while dispatching LCM; a late cycle starts the next at once.
-    next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
-    if (next < std::chrono::steady_clock::now()) next = std::chrono::steady_clock::now();
+    // Sleep to the next start while dispatching LCM: a period on, just after the cameras' next
+    // frame (cell/cycle_pacer.h); a late cycle starts the next at once.
+    const std::int64_t next_us = cell.next_cycle_start_us(cycle_start_us, r);
     while (!g_stop) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(next - std::chrono::steady_clock::now());
-      if (left.count() <= 0) break;
-      cell.handle_bus(static_cast<int>(left.count()));
+      const std::int64_t left_ms = (next_us - drivers::host_clock_us()) / 1000;
+      if (left_ms <= 0) break;
+      cell.handle_bus(static_cast<int>(left_ms));
     }
   }
   const cell::CellState final_state = cell.state();
