@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 
 #include <fmt/format.h>
 
@@ -117,6 +118,11 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
   cloud.build(resampled_);
   r.times.resample_ms = ms_since(t);
 
+  // The prediction error against the observed points needs nothing the registration makes:
+  // it runs on a second thread meanwhile (one search thread, beside the registration's).
+  auto against_prediction = std::async(std::launch::async, [this, &prediction] {
+    return observed_against_prediction(resampled_, prediction.vertices_m, prediction.triangles, 1);
+  });
   RegistrationResult fit = register_prediction(prediction, cloud, r);
   r.times.registration_ms = ms_since(t);
   if (fit.status != RegistrationStatus::kOk) {
@@ -133,7 +139,8 @@ TrackResult SheetTracker::run_cycle(const std::vector<drivers::DepthFrame>& fram
 
   r.coverage = compute_coverage(r.vertices_m, prediction.triangles, cloud, config_.coverage);
   r.times.coverage_ms = ms_since(t);
-  r.prediction_error = compute_prediction_error(resampled_, prediction.vertices_m, prediction.triangles, r.vertices_m);
+  r.prediction_error = against_prediction.get();
+  add_vertex_error(r.prediction_error, prediction.vertices_m, r.vertices_m);
   r.times.prediction_error_ms = ms_since(t);
   // Only cycles that tracked count, so the first good cycle always checks.
   const int every = std::max(config_.calibration.every_n_cycles, 1);

@@ -44,7 +44,9 @@ enum class TrackStatus {
 };
 const char* to_string(TrackStatus status);
 
-struct StageTimes {  // wall-clock milliseconds per stage of the cycle
+// Wall-clock milliseconds per stage of the cycle. The prediction error against the observed
+// points runs beside the registration; prediction_error_ms is what is left of it after.
+struct StageTimes {
   double fusion_ms = 0, segmentation_ms = 0, resample_ms = 0, registration_ms = 0;
   double coverage_ms = 0, prediction_error_ms = 0, calibration_ms = 0, total_ms = 0;
 };

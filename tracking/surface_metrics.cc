@@ -32,7 +32,13 @@ PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& obs
                                          const std::vector<Vec3>& predicted_m,
                                          const std::vector<Eigen::Vector3i>& triangles,
                                          const std::vector<Vec3>& tracked_m) {
-  PredictionError e;
+  PredictionError e = observed_against_prediction(observed_m, predicted_m, triangles);
+  add_vertex_error(e, predicted_m, tracked_m);
+  return e;
+}
+
+void add_vertex_error(PredictionError& e, const std::vector<Vec3>& predicted_m,
+                      const std::vector<Vec3>& tracked_m) {
   const std::size_t n = std::min(predicted_m.size(), tracked_m.size());
   e.per_vertex_m.resize(n);
   e.per_vertex_norm_m.resize(n);
@@ -40,11 +46,18 @@ PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& obs
     e.per_vertex_m[i] = tracked_m[i] - predicted_m[i];
     e.per_vertex_norm_m[i] = e.per_vertex_m[i].norm();
   }
+}
+
+PredictionError observed_against_prediction(const std::vector<Eigen::Vector3f>& observed_m,
+                                            const std::vector<Vec3>& predicted_m,
+                                            const std::vector<Eigen::Vector3i>& triangles,
+                                            int threads) {
+  PredictionError e;
   if (observed_m.empty() || predicted_m.empty()) return e;
   std::vector<Eigen::Vector3f> predicted(predicted_m.size());
   for (std::size_t i = 0; i < predicted_m.size(); ++i) predicted[i] = predicted_m[i].cast<float>();
   PointIndex index;
-  index.build(predicted);
+  index.build(predicted, threads);
   const int m = static_cast<int>(observed_m.size());
   std::vector<int> nearest;
   std::vector<float> d2;

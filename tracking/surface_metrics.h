@@ -47,4 +47,15 @@ PredictionError compute_prediction_error(const std::vector<Eigen::Vector3f>& obs
                                          const std::vector<Eigen::Vector3i>& triangles,
                                          const std::vector<Vec3>& tracked_m);
 
+// The two halves of compute_prediction_error. The first needs only the observed points and the
+// prediction, so the tracker runs it beside the registration: the Algorithm 1 and surface
+// figures (per_vertex left empty), its nearest-vertex searches on `threads` threads (0: OpenMP's
+// default). The second fills per_vertex from the tracked surface.
+PredictionError observed_against_prediction(const std::vector<Eigen::Vector3f>& observed_m,
+                                            const std::vector<Vec3>& predicted_m,
+                                            const std::vector<Eigen::Vector3i>& triangles,
+                                            int threads = 0);
+void add_vertex_error(PredictionError& error, const std::vector<Vec3>& predicted_m,
+                      const std::vector<Vec3>& tracked_m);
+
 }  // namespace tracking

@@ -52,7 +52,8 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
 }
 
 void CycleFigures::add_tracker_cycle(const tracking::TrackResult& r) {
-  tracker_cycles_.push_back({r.times, r.resampled_points, r.registration_iterations});
+  tracker_cycles_.push_back({r.times, r.resampled_points, r.registration_iterations, r.registration_warm,
+                             r.registration_restarted});
 }
 
 std::string CycleFigures::tracker_stages_line() const {
@@ -73,8 +74,12 @@ std::string CycleFigures::tracker_stages_line() const {
   // Calibration runs every n-th cycle only: its p99.
   s += fmt::format(" calibration p99 {:.1f}",
                    percentile(column([](const TrackerCycle& t) { return t.times.calibration_ms; }), 0.99));
-  s += fmt::format(" | registration iterations {:.0f} | resampled points {:.0f}",
+  int warm = 0, restarted = 0;
+  for (const TrackerCycle& c : tracker_cycles_) warm += c.warm, restarted += c.restarted;
+  s += fmt::format(" | registration iterations {:.0f} (p99 {:.0f}), {} of {} warm, {} restarted | resampled points {:.0f}",
                    percentile(column([](const TrackerCycle& t) { return double(t.registration_iterations); }), 0.5),
+                   percentile(column([](const TrackerCycle& t) { return double(t.registration_iterations); }), 0.99),
+                   warm, tracker_cycles_.size(), restarted,
                    percentile(column([](const TrackerCycle& t) { return double(t.resampled_points); }), 0.5));
   return s;
 }

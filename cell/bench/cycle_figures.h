@@ -38,6 +38,7 @@ class CycleFigures {
   struct TrackerCycle {
     tracking::StageTimes times;
     int resampled_points = 0, registration_iterations = 0;
+    bool warm = false, restarted = false;
   };
   std::vector<TrackerCycle> tracker_cycles_;
 };
