@@ -93,7 +93,7 @@ D415NoiseConfig read_noise(const JsonField& n) {
 D415FaultConfig read_faults(const JsonField& f) {
   f.only_keys({"drop_probability", "drop_every_nth", "drop_from_s", "drop_until_s", "frozen_from_s",
                "frozen_until_s", "frozen_sequence_advances", "dead_from_s", "dead_until_s", "stale_from_s",
-               "stale_until_s", "stale_mode", "stale_lag_s"});
+               "stale_until_s", "stale_mode", "stale_lag_s", "bumped_from_s", "bumped_until_s", "bump_m"});
   D415FaultConfig c;
   c.drop_probability = get(f, "drop_probability", c.drop_probability, "probability 0..1");
   if (c.drop_probability < 0 || c.drop_probability > 1) f["drop_probability"].fail("must be in 0..1");
@@ -114,6 +114,14 @@ D415FaultConfig read_faults(const JsonField& f) {
     else m->fail("must be \"stopped\" or \"lagging\", got \"" + s + "\"");
   }
   if (const auto l = f.optional("stale_lag_s")) c.stale_lag_s = l->positive("s");
+  c.bumped_from_s = get(f, "bumped_from_s", c.bumped_from_s, "s");
+  c.bumped_until_s = get(f, "bumped_until_s", c.bumped_until_s, "s");
+  if (const auto b = f.optional("bump_m")) {
+    if (b->array_size() != 3) b->fail("must be [x, y, z] (m, camera frame)");
+    c.bump_x_m = (*b)[0].number("m");
+    c.bump_y_m = (*b)[1].number("m");
+    c.bump_z_m = (*b)[2].number("m");
+  }
   return c;
 }
 

@@ -66,6 +66,34 @@ TEST_CASE("scene file: the registered simulated back-end renders a scene file", 
   CHECK(f.depth_mm[5 * k.width + 5] == 0);
 }
 
+TEST_CASE("scene file: a bumped camera sees the scene from its moved pose and still reports the configured one",
+          "[camera_sim]") {
+  const fs::path dir = temp_dir("scene_bumped");
+  // A step in the floor: 0.5 m high for x > 0, so a sideways move of the camera shows.
+  write(dir / "scene.json", R"({
+    "meshes": [{"name": "step", "vertices": [[0, -2, 0.5], [2, -2, 0.5], [2, 2, 0.5], [0, 2, 0.5]],
+                "triangles": [[0, 1, 2], [0, 2, 3]]}],
+    "floor": {"height_m": 0.0}, "seed": 5, "clock": "simulated",
+    "noise": {"sigma_at_1m_mm": 0, "bias_at_1m_mm": 0, "dropout_fraction": 0, "stereo_shadow": false},
+    "faults": {"bumped_from_s": 0.05, "bump_m": [0.05, 0, 0]}
+  })");
+  sim_hw::SimulatedD415Camera cam;
+  auto config = sim_hw_test::config_848("bumped_cam", sim_hw_test::looking_down(1.5));
+  config.uri = (dir / "scene.json").string();
+  REQUIRE(cam.configure(config).ok);
+  REQUIRE(cam.activate().ok);
+  drivers::DepthFrame before, after;
+  REQUIRE(cam.read(before) == drivers::ReadStatus::kFrame);  // t = 0: in place
+  REQUIRE(cam.read(after) == drivers::ReadStatus::kFrame);   // t = 1/30 s
+  REQUIRE(cam.read(after) == drivers::ReadStatus::kFrame);   // t = 2/30 s: bumped 5 cm
+  CHECK(after.camera_to_cell.isApprox(before.camera_to_cell));  // the driver does not know
+  int changed = 0;
+  for (std::size_t i = 0; i < before.depth_mm.size(); ++i) changed += before.depth_mm[i] != after.depth_mm[i];
+  CHECK(changed > 1000);  // the step's edge moved in the image
+  write(dir / "bad.json", R"({"meshes": [], "faults": {"bump_m": [0.01, 0]}})");
+  CHECK_THAT(load_error(dir / "bad.json"), Catch::Contains("faults.bump_m"));
+}
+
 TEST_CASE("scene file: errors name the file and the field", "[camera_sim]") {
   const fs::path dir = temp_dir("scene_bad");
   write(dir / "a.json", R"({"meshes": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0, 1, 3]]}]})");
