@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <memory>
 
 namespace cell {
@@ -33,15 +35,37 @@ std::string CalibrationMonitor::check_now(const tracking::SensorCloud& cloud, co
 
 void CalibrationMonitor::take_up_finished() {
   if (running_.valid() && running_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-    problem_ = running_.get();
+    record(running_.get());
     ++finished_;
   }
 }
 
+void CalibrationMonitor::record(std::string verdict) {
+  if (verdict.empty()) {
+    disagreeing_in_a_row_ = 0;
+    problem_.clear();
+  } else if (++disagreeing_in_a_row_ >= kDisagreeingChecksToReport) {
+    problem_ = std::move(verdict);
+  }
+}
+
+double median_vertex_speed_m_s(const std::vector<Eigen::Vector3d>& before_m,
+                               const std::vector<Eigen::Vector3d>& after_m, double dt_s) {
+  if (before_m.empty() || before_m.size() != after_m.size() || !(dt_s > 0.0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  std::vector<double> moves(before_m.size());
+  for (std::size_t i = 0; i < moves.size(); ++i) moves[i] = (after_m[i] - before_m[i]).norm();
+  auto middle = moves.begin() + moves.size() / 2;
+  std::nth_element(moves.begin(), middle, moves.end());
+  return *middle / dt_s;
+}
+
 void CalibrationMonitor::after_tracked_cycle(const tracking::SensorCloud& cloud,
-                                             const std::vector<std::string>& cameras) {
+                                             const std::vector<std::string>& cameras, double sheet_speed_m_s) {
   take_up_finished();
-  if (!options_.enabled || tracked_cycles_++ % std::max(options_.every_n_cycles, 1) != 0) return;
+  if (!options_.enabled || !(sheet_speed_m_s <= kStillSheetSpeedMS)) return;
+  if (tracked_cycles_++ % std::max(options_.every_n_cycles, 1) != 0) return;
   if (running_.valid()) return;  // the last one is still running: this one is skipped
   auto copy = std::make_shared<const tracking::SensorCloud>(cloud);
   running_ = worker_.submit([copy, cameras, options = options_] {

@@ -129,6 +129,8 @@ class CellController {
   std::int64_t prediction_utime_ = 0;  // the time it is for
   std::int64_t twin_cycle_ = 1;        // the cycle the twin's state (or the running step) is for
   tracking::TrackResult last_track_;
+  std::vector<twin::Vec3> last_tracked_m_;  // the last tracked surface, for the sheet's speed
+  std::int64_t last_tracked_frame_us_ = 0;  // and the arrival of its newest frame
   std::vector<twin::Vec3> truth_;
   std::int64_t truth_host_us_ = 0;
   std::uint64_t faults_dropped_ = 0;

@@ -143,7 +143,14 @@ CycleReport CellController::cycle() {
     last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), predicted));
     report.tracker_ms = last_track_.times.total_ms;
     report.tracked = last_track_.status == tracking::TrackStatus::kOk;
-    if (report.tracked) calibration_.after_tracked_cycle(tracker_.last_sheet_cloud(), last_track_.cameras_used);
+    if (report.tracked) {
+      // The calibration check judges a still sheet only (calibration_monitor.h).
+      const double speed = median_vertex_speed_m_s(last_tracked_m_, last_track_.vertices_m,
+                                                   1e-6 * static_cast<double>(newest_host_us - last_tracked_frame_us_));
+      calibration_.after_tracked_cycle(tracker_.last_sheet_cloud(), last_track_.cameras_used, speed);
+      last_tracked_m_ = last_track_.vertices_m;
+      last_tracked_frame_us_ = newest_host_us;
+    }
   }
   status_.tracker_ok = report.tracked;
 

@@ -34,6 +34,23 @@ TEST_CASE("cycle pacer: a 10 Hz cell on 30 fps cameras starts every third frame"
   }
 }
 
+TEST_CASE("cycle pacer: a cycle period that is no whole number of frames runs free at the cell's rate", "[cell]") {
+  // 10 Hz on 15 fps cameras (the fake cell): 1.5 frames a cycle. Locking to frames would round
+  // every cycle to one or two frames; it runs at its own period instead.
+  const cell::CyclePacer pacer(0.1, 1.0 / 15.0);
+  CHECK(pacer.frames_per_cycle() == 0);
+  std::int64_t start = 1'000'000, frame = 999'000;
+  for (int cycle = 0; cycle < 10; ++cycle) {
+    const std::int64_t next = pacer.next_start_us(start, frame, start + 30'000);
+    CHECK(next - start == 100'000);
+    start = next;
+    frame = start - 20'000;
+  }
+  CHECK(cell::CyclePacer(1.0 / 30.0, 1.0 / 30.0).frames_per_cycle() == 1);
+  CHECK(cell::CyclePacer(0.1, 1.0 / 30.0).frames_per_cycle() == 3);
+  CHECK(cell::CyclePacer(1.0 / 15.0, 1.0 / 30.0).frames_per_cycle() == 2);
+}
+
 TEST_CASE("cycle pacer: without a camera frame period the cycles run free", "[cell]") {
   const cell::CyclePacer pacer(0.05, 0.0);
   CHECK(pacer.next_start_us(1'000'000, 999'000, 1'010'000) == 1'050'000);

@@ -220,6 +220,16 @@ TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, h
   cell.fault("cam_left", "dead", false);
   REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 20.0));
 
+  // A camera knocked on its mount (the world renders it 1 cm off, its frames still carry the
+  // configured pose): the running calibration check finds the pair that disagrees -> DEGRADED,
+  // commands go on; back in place -> RUNNING.
+  cell.fault("cam_left", "bumped", true);
+  REQUIRE(cell.wait_state({cell_state_t::STATE_DEGRADED}, 30.0));
+  CHECK_THAT(cell.log().reason, Catch::Contains("calibration check") && Catch::Contains("cam_left"));
+  CHECK(cell.robot_commands_after(Clock::now() - std::chrono::seconds(1)) > 0);
+  cell.fault("cam_left", "bumped", false);
+  REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 30.0));
+
   // All cameras dead, a twin failure, a silent arm: SAFE_HOLD, no robot command, recovery.
   const std::vector<std::string> cameras = {"cam_front", "cam_left", "cam_right"};
   check_safe_hold_and_recovery(
