@@ -1,8 +1,10 @@
 #pragma once
 // The cell controller: start-up (cell_startup.cc), then one cycle per period (cell_cycle.cc):
-//   cameras -> tracker (from the twin's prediction) -> SHEET_OBSERVED, SHEET_PREDICTED,
-//   PREDICTION_ERROR, CAMERA_STATUS_<CAM> -> twin step with the clamps at the measured grasps ->
-//   watchdog -> CELL_STATE -> robot commands (only RUNNING / DEGRADED).
+//   cameras -> tracker (from the twin's newest prediction) -> SHEET_OBSERVED, SHEET_PREDICTED,
+//   PREDICTION_ERROR, CAMERA_STATUS_<CAM> -> watchdog -> CELL_STATE -> robot commands (only
+//   RUNNING / DEGRADED); beside them, on worker threads, the twin's step with the clamps at the
+//   measured grasps (at its own pace unless cell.twin_lockstep) and, every n-th cycle, the
+//   cameras' calibration check (calibration_monitor.h).
 // The bus is handled on the caller's thread inside startup() and cycle(); nothing here throws
 // after construction. With fault_injection the cell obeys SIM_FAULT {target "twin", fault
 // "diverge"} by poisoning its twin steps, and {target "twin", fault "slow"} by making each step
@@ -71,7 +73,8 @@ class CellController {
   const CellConfig& config() const { return config_; }
   double period_s() const { return 1.0 / config_.cell.cycle_hz; }
   // When the next cycle should start (host_clock_us): after `last`, which started at
-  // last_start_us, at the cycle period moved to just after the cameras' next frame (cycle_pacer.h).
+  // last_start_us, a cycle period on, locked just after a camera frame when the period is a whole
+  // number of frame periods (cycle_pacer.h).
   std::int64_t next_cycle_start_us(std::int64_t last_start_us, const CycleReport& last) const;
 
   // For the experiment: move a gripper's jaw target (straight line at the configured speed) and
