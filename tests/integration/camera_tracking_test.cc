@@ -56,11 +56,11 @@ Figures tracked_surface_error(const tracking::TrackResult& r) {
   return f;
 }
 
-// One frame from each camera that is alive (seeded, simulated clock).
+// One frame from each camera that is alive (seeded from first_seed on, simulated clock).
 std::vector<drivers::DepthFrame> capture(const std::vector<drivers::CameraConfig>& configs,
-                                         const std::string& dead_camera = "") {
+                                         const std::string& dead_camera = "", std::uint64_t first_seed = 11) {
   std::vector<drivers::DepthFrame> frames;
-  std::uint64_t seed = 11;
+  std::uint64_t seed = first_seed;
   for (const auto& config : configs) {
     sim_hw::SimulatedD415Options options;
     options.scene = true_sheet_scene();
@@ -168,24 +168,6 @@ double vertex_correspondence_error(const tracking::TrackResult& r) {
   return sum / std::max(seen, 1);
 }
 
-// One frame from each camera, with its own noise draw per cycle.
-std::vector<drivers::DepthFrame> capture_cycle(const std::vector<drivers::CameraConfig>& configs, int cycle) {
-  std::vector<drivers::DepthFrame> frames;
-  std::uint64_t seed = 11 + 10 * cycle;
-  for (const auto& config : configs) {
-    sim_hw::SimulatedD415Options options;
-    options.scene = true_sheet_scene();
-    options.seed = seed++;
-    sim_hw::SimulatedD415Camera camera(options);
-    REQUIRE(camera.configure(config).ok);
-    REQUIRE(camera.activate().ok);
-    drivers::DepthFrame frame;
-    REQUIRE(camera.read(frame) == drivers::ReadStatus::kFrame);
-    frames.push_back(std::move(frame));
-  }
-  return frames;
-}
-
 }  // namespace
 
 TEST_CASE("warm cycles track the true sheet as well as cold ones, in fewer iterations, without drift",
@@ -198,7 +180,7 @@ TEST_CASE("warm cycles track the true sheet as well as cold ones, in fewer itera
   std::vector<double> warm_error, cold_error, warm_surface, cold_surface;
   constexpr int kCycles = 6;
   for (int cycle = 0; cycle < kCycles; ++cycle) {
-    const auto frames = capture_cycle(configs, cycle);
+    const auto frames = capture(configs, "", 11 + 10 * cycle);  // a new noise draw each cycle
     const tracking::TrackResult w = warm.track(frames, prediction);
     const tracking::TrackResult c = cold.track(frames, prediction);
     REQUIRE(w.status == tracking::TrackStatus::kOk);
