@@ -7,7 +7,8 @@
 # Environment: EFFECTS (comma list, default all nine), TRIANGLES (default 300: reference sheet
 # and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
 # FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), JOBS (sets run at once, default 1; 2 on a
-# quiet two-core machine), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin).
+# quiet two-core machine), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin),
+# DIAGNOSE_ARGS (more `twin diagnose` options, e.g. "--optimizer lm").
 #
 # Resumable: a set whose truth exists is not generated again, a set with a verdict.json is not
 # diagnosed again; a step that failed left an error file and is retried on the next run. Delete
@@ -53,8 +54,10 @@ run_set() {
   if [ "${REDIAGNOSE:-0}" = 1 ] || [ ! -f "$dir/report/verdict.json" ]; then
     rm -rf "$dir/report"
     local t0; t0=$(now)
+    # shellcheck disable=SC2086  # DIAGNOSE_ARGS is a list of options
     if ! "$twin" diagnose --train "$dir/trials/train_1" --train "$dir/trials/train_2" \
-         --test "$dir/trials/test_1" --triangles "$triangles" --report "$dir/report" > "$dir/diagnose.log" 2>&1 \
+         --test "$dir/trials/test_1" --triangles "$triangles" --report "$dir/report" ${DIAGNOSE_ARGS:-} \
+         > "$dir/diagnose.log" 2>&1 \
        || [ ! -f "$dir/report/verdict.json" ]; then
       echo "diagnose failed: $(tail -1 "$dir/diagnose.log")" > "$dir/error.txt"
       rm -f "$dir/report/verdict.json"

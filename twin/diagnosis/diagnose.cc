@@ -76,7 +76,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   };
   GradientOptions gradient;
   gradient.max_evaluations = o.base_evaluations;
-  gradient.optimizer = kDiagnosisOptimizer;
+  gradient.optimizer = o.optimizer;
   IdentificationResult base = identify_gradient(problem, gradient);
   if (base.coordinates.size() == 0) throw std::runtime_error("the base fit failed: " + base.stop_reason);
   estimate_uncertainty(problem, base);
@@ -85,6 +85,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   DiagnoseOutcome out;
   DiagnosisRecord record;
   record.base = base;
+  record.optimizer = o.optimizer == GradientOptimizer::kLevenbergMarquardt ? "lm" : "lbfgs";
   record.train_before.fitted_parameters = static_cast<int>(base_parameters().size());
   out.base_train = score_set(train, base.material, base_parameters(), &record.train_before);
   out.base_test = score_set(test, base.material, base_parameters(), &record.test_before);
@@ -119,6 +120,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   if (anything) {
     RefitOptions refit_options;
     refit_options.max_evaluations = o.refit_evaluations;
+    refit_options.optimizer = o.optimizer;
     // Only candidates whose score test is significant can qualify (verdict.h): the others are
     // not refitted.
     const double alpha = kScoreAlpha / std::max<int>(1, static_cast<int>(order.size()));

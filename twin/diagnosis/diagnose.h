@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "twin/diagnosis/refit.h"
 #include "twin/diagnosis/verdict.h"
 
 namespace twin::diagnosis {
@@ -31,6 +32,7 @@ struct DiagnoseOptions {
   int refits = 3;                        // candidates refitted, best score first
   int base_evaluations = 80;             // budget of the base fit
   int refit_evaluations = 60;            // budget of each refit
+  GradientOptimizer optimizer = kDiagnosisOptimizer;  // of the base fit and every refit
   std::function<void(const std::string&)> progress;  // progress lines (none when empty)
 };
 

@@ -56,6 +56,7 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
   j["held_out"] = before_after(o.base_test, o.after_test, effect);
   j["train"] = before_after(o.base_train, o.after_train, effect);
   j["base_branch_of"] = record.base_branch_of ? nlohmann::json(*record.base_branch_of) : nlohmann::json(nullptr);
+  j["optimizer"] = record.optimizer;
   j["evidence"] = v.reasons;
   j["candidates"] = nlohmann::json::array();
   auto candidate = [&](const CandidateScore& s) {

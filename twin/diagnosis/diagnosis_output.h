@@ -24,6 +24,7 @@ struct DiagnosisRecord {
   double base_bic = 0.0;
   // When the base moved onto the equilibria of a refit (diagnose.cc, step 4): that refit's effect.
   std::optional<std::string> base_branch_of;
+  std::string optimizer;                     // of the base fit and the refits: "lbfgs" or "lm"
 };
 
 // verdict.json's content (the contract in README "Diagnosis").

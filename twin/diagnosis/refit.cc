@@ -158,7 +158,7 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
     if (progress) progress(fmt::format("  refit {} from start {} of {}", effect.name, k + 1, starts.size()));
     GradientOptions gradient;
     gradient.max_evaluations = options.max_evaluations;
-    gradient.optimizer = kDiagnosisOptimizer;
+    gradient.optimizer = options.optimizer;
     gradient.start_coordinates = problem.coordinates_of(starts[k]);
     IdentificationResult result = identify_gradient(problem, gradient);
     if (result.coordinates.size() == 0) {

@@ -58,6 +58,7 @@ double bic(double sum_squares_m2, int residual_count, int parameter_count, doubl
 
 struct RefitOptions {
   int max_evaluations = 60;  // per start
+  GradientOptimizer optimizer = kDiagnosisOptimizer;
 };
 
 // Where a refit starts. A hanging sheet's misfit has several local minima (equilibria change

@@ -23,11 +23,18 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");
   cmd->add_option("--refits", o.refits, "candidates refitted, best score first")->check(CLI::Range(1, 10));
+  cmd->add_option("--optimizer", a.optimizer,
+                  "of the base fit and the refits: lbfgs (NLopt LD_LBFGS, default) or lm (Levenberg-Marquardt)")
+      ->check(CLI::IsMember({"lm", "lbfgs"}));
   cmd->add_flag("--quiet", a.quiet, "no progress lines");
   return cmd;
 }
 
 int run_diagnose(DiagnoseArguments& a) {
+  if (!a.optimizer.empty()) {
+    a.options.optimizer = a.optimizer == "lm" ? twin::GradientOptimizer::kLevenbergMarquardt
+                                              : twin::GradientOptimizer::kLbfgs;
+  }
   if (!a.quiet) {
     a.options.progress = [](const std::string& line) {
       fmt::print("{}\n", line);

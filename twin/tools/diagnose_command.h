@@ -11,6 +11,7 @@ namespace twin_cli {
 struct DiagnoseArguments {
   twin::diagnosis::DiagnoseOptions options;
   bool quiet = false;
+  std::string optimizer;  // "lm" or "lbfgs"; empty: the diagnosis default (kDiagnosisOptimizer)
 };
 
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& arguments);
