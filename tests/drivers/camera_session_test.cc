@@ -4,8 +4,6 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 
@@ -17,18 +15,13 @@
 #include "drivers/session_recorder.h"
 #include "sim_hw/simulated_d415.h"
 #include "tests/sim_hw/d415_test_scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using drivers::ReadStatus;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("camera_session_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
 
 // A simulated camera looking down at a floor and a box (seeded, simulated clock).
 std::unique_ptr<sim_hw::SimulatedD415Camera> sim_camera(const std::string& name, bool color = true) {
@@ -91,7 +84,8 @@ std::string configure_error(const std::string& uri) {
 }  // namespace
 
 TEST_CASE("session: recording then replaying is bit-exact, through the registry", "[camera_sim]") {
-  const fs::path dir = fresh_dir("roundtrip");
+  const testing_support::TempDir tmp("camera_session_roundtrip");  // removed when the case ends
+  const fs::path dir = tmp / "session";
   const auto recorded = record(dir, 5);
   CHECK(fs::exists(dir / "session.json"));
   CHECK(fs::exists(dir / "cam_a" / "index.txt"));
@@ -118,7 +112,8 @@ TEST_CASE("session: recording then replaying is bit-exact, through the registry"
 }
 
 TEST_CASE("session: replay paces as recorded, loops, and rebases host time on request", "[camera_sim]") {
-  const fs::path dir = fresh_dir("paced");
+  const testing_support::TempDir tmp("camera_session_paced");  // removed when the case ends
+  const fs::path dir = tmp / "session";
   const auto recorded = record(dir, 4);  // cam_a: 0, 1, 2, 4 at 33 ms spacing -> 133 ms span
   drivers::ReplayDepthCamera cam;
   drivers::CameraConfig c;
@@ -146,7 +141,8 @@ TEST_CASE("session: replay paces as recorded, loops, and rebases host time on re
 }
 
 TEST_CASE("session: frame files are standard 16-bit PGM and PPM", "[camera_sim]") {
-  const fs::path dir = fresh_dir("pnm");
+  const testing_support::TempDir tmp("camera_session_pnm");  // removed when the case ends
+  const fs::path dir = tmp / "session";
   fs::create_directories(dir);
   const std::vector<std::uint16_t> depth = {0, 1, 256, 65535, 1234, 4321};
   REQUIRE(drivers::write_pgm16(dir / "d.pgm", 3, 2, depth).empty());
@@ -164,7 +160,8 @@ TEST_CASE("session: frame files are standard 16-bit PGM and PPM", "[camera_sim]"
 }
 
 TEST_CASE("session: bad recordings give errors naming the file and field or line", "[camera_sim]") {
-  const fs::path dir = fresh_dir("bad");
+  const testing_support::TempDir tmp("camera_session_bad");  // removed when the case ends
+  const fs::path dir = tmp / "session";
   record(dir, 3);
   CHECK_THAT(configure_error(dir.string()), Catch::Contains("uri must be '<session dir>#<camera name>"));
   CHECK_THAT(configure_error(dir.string() + "#nope"),
@@ -221,7 +218,8 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
 }
 
 TEST_CASE("session: the record_cameras tool re-records a replayed camera bit-exactly", "[camera_sim]") {
-  const fs::path dir = fresh_dir("tool_src"), out = fresh_dir("tool_out");
+  const testing_support::TempDir tmp("camera_session_tool");
+  const fs::path dir = tmp / "src", out = tmp / "out";
   const auto recorded = record(dir, 4);
   const std::string cmd =
       fmt::format("{} --out {} --frames 3 --camera cam_a=replay:'{}#cam_a?pace=fast' > {} 2>&1",
@@ -243,6 +241,6 @@ TEST_CASE("session: the record_cameras tool re-records a replayed camera bit-exa
   }
   // A bad camera spec is reported, not crashed on.
   const std::string bad = fmt::format("{} --out {} --camera nonsense > /dev/null 2>&1", RECORD_CAMERAS_EXE,
-                                      fresh_dir("tool_bad").string());
+                                      (tmp / "bad").string());
   CHECK(std::system(bad.c_str()) != 0);
 }

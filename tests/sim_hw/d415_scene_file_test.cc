@@ -2,8 +2,6 @@
 // that name the file and the field (or the mesh file and line).
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 
@@ -11,17 +9,11 @@
 #include "sim_hw/d415_scene_file.h"
 #include "sim_hw/simulated_cameras.h"
 #include "tests/sim_hw/d415_test_scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("camera_sim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
@@ -37,7 +29,8 @@ std::string load_error(const fs::path& p) {
 }  // namespace
 
 TEST_CASE("scene file: the registered simulated back-end renders a scene file", "[camera_sim]") {
-  const fs::path dir = temp_dir("scene_ok");
+  const testing_support::TempDir tmp("camera_sim_scene_ok");  // removed when the case ends
+  const fs::path dir = tmp.str();
   write(dir / "tri.obj", "v -1 -1 0.5\nv 1 -1 0.5\nv 0 1 0.5\nf 1 2 3\n");
   write(dir / "scene.json", R"({
     "meshes": [{"name": "tri", "file": "tri.obj", "albedo": [200, 10, 10]}],
@@ -68,7 +61,8 @@ TEST_CASE("scene file: the registered simulated back-end renders a scene file", 
 
 TEST_CASE("scene file: a bumped camera sees the scene from its moved pose and still reports the configured one",
           "[camera_sim]") {
-  const fs::path dir = temp_dir("scene_bumped");
+  const testing_support::TempDir tmp("camera_sim_scene_bumped");  // removed when the case ends
+  const fs::path dir = tmp.str();
   // A step in the floor: 0.5 m high for x > 0, so a sideways move of the camera shows.
   write(dir / "scene.json", R"({
     "meshes": [{"name": "step", "vertices": [[0, -2, 0.5], [2, -2, 0.5], [2, 2, 0.5], [0, 2, 0.5]],
@@ -95,7 +89,8 @@ TEST_CASE("scene file: a bumped camera sees the scene from its moved pose and st
 }
 
 TEST_CASE("scene file: errors name the file and the field", "[camera_sim]") {
-  const fs::path dir = temp_dir("scene_bad");
+  const testing_support::TempDir tmp("camera_sim_scene_bad");  // removed when the case ends
+  const fs::path dir = tmp.str();
   write(dir / "a.json", R"({"meshes": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "triangles": [[0, 1, 3]]}]})");
   CHECK_THAT(load_error(dir / "a.json"), Catch::Contains("a.json") && Catch::Contains("meshes[0].triangles[0][2]") &&
                                              Catch::Contains("vertex index"));
