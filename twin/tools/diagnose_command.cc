@@ -24,7 +24,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
   cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");
   cmd->add_option("--refits", o.refits, "candidates refitted, best score first")->check(CLI::Range(1, 10));
   cmd->add_option("--optimizer", a.optimizer,
-                  "of the base fit and the refits: lbfgs (NLopt LD_LBFGS, default) or lm (Levenberg-Marquardt)")
+                  "of the base fit and the refits: lm (Levenberg-Marquardt, default) or lbfgs (NLopt LD_LBFGS)")
       ->check(CLI::IsMember({"lm", "lbfgs"}));
   cmd->add_flag("--quiet", a.quiet, "no progress lines");
   return cmd;
