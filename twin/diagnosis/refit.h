@@ -22,7 +22,8 @@ namespace twin::diagnosis {
 
 // The optimiser of the base fit and of every refit (`twin diagnose --optimizer` chooses another):
 // Levenberg-Marquardt, as in identification. On the 21 blind sets of README "Diagnosis on blind
-// trial sets" (2026-11-26) it gave 21 right verdicts in 173 s per set; L-BFGS gave 19 in 243 s.
+// trial sets" (2026-11-26) it gave 21 right verdicts in 173 s per set (L-BFGS, before the
+// best-branch rule below: 19 in 243 s).
 // It was kept out until the diagnosis told a branch change from an effect (2026-11-25: its base
 // fit of null set 1003 left a stage on a neighbouring equilibrium, and a clamp-slip refit that
 // moved the sheet onto the right branch was named); better_branch() below now moves the base
