@@ -90,10 +90,14 @@ TEST_CASE("twin diagnose finds no missing effect in an isotropic sheet", "[diagn
   CHECK(run.verdict["effect"].is_null());
   CHECK_FALSE(std::filesystem::exists(dir / "out" / "material_augmented.json"));
   CHECK(run.verdict["noise_sigma_mm"].get<double>() == Approx(0.3).epsilon(0.15));
+  CHECK(run.verdict["optimizer"] == "lm");  // the default, recorded
   // Bad input: exit 1, naming what is wrong.
   const Run bad = diagnose(dir, "--effects orthotropic_stiffness,clamp_creep");
   CHECK(bad.status != 0);
   CHECK(bad.output.find("clamp_creep") != std::string::npos);
+  const Run bad_optimizer = diagnose(dir, "--optimizer newton");
+  CHECK(bad_optimizer.status != 0);
+  CHECK(bad_optimizer.output.find("--optimizer") != std::string::npos);
 }
 
 }  // namespace
