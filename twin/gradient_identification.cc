@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <nlopt.hpp>
@@ -31,6 +32,16 @@ std::pair<double, double> sane_bounds(MaterialParameter p) {
 }
 
 }  // namespace
+
+const char* optimizer_name(GradientOptimizer optimizer) {
+  return optimizer == GradientOptimizer::kLbfgs ? "lbfgs" : "lm";
+}
+
+GradientOptimizer optimizer_from_name(const std::string& name) {
+  if (name == "lm") return GradientOptimizer::kLevenbergMarquardt;
+  if (name == "lbfgs") return GradientOptimizer::kLbfgs;
+  throw std::invalid_argument("optimizer: expected lm or lbfgs, got '" + name + "'");
+}
 
 IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options) {
   const auto start = std::chrono::steady_clock::now();

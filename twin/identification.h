@@ -119,6 +119,11 @@ enum class GradientOptimizer {
   kLbfgs,
 };
 
+// The optimiser's name on command lines and in output files: "lm" or "lbfgs".
+const char* optimizer_name(GradientOptimizer optimizer);
+// The optimiser of a name from optimizer_name (anything else: invalid_argument naming it).
+GradientOptimizer optimizer_from_name(const std::string& name);
+
 struct GradientOptions {
   GradientOptimizer optimizer = GradientOptimizer::kLevenbergMarquardt;
   std::optional<VecX> start_coordinates;  // default: log of the base material's values

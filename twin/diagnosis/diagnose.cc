@@ -85,7 +85,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   DiagnoseOutcome out;
   DiagnosisRecord record;
   record.base = base;
-  record.optimizer = o.optimizer == GradientOptimizer::kLevenbergMarquardt ? "lm" : "lbfgs";
+  record.optimizer = optimizer_name(o.optimizer);
   record.train_before.fitted_parameters = static_cast<int>(base_parameters().size());
   out.base_train = score_set(train, base.material, base_parameters(), &record.train_before);
   out.base_test = score_set(test, base.material, base_parameters(), &record.test_before);

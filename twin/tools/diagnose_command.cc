@@ -31,10 +31,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
 }
 
 int run_diagnose(DiagnoseArguments& a) {
-  if (!a.optimizer.empty()) {
-    a.options.optimizer = a.optimizer == "lm" ? twin::GradientOptimizer::kLevenbergMarquardt
-                                              : twin::GradientOptimizer::kLbfgs;
-  }
+  if (!a.optimizer.empty()) a.options.optimizer = twin::optimizer_from_name(a.optimizer);
   if (!a.quiet) {
     a.options.progress = [](const std::string& line) {
       fmt::print("{}\n", line);

@@ -159,7 +159,7 @@ int run_identify(const IdentifyArguments& a) {
   if (a.method == "gradient" || a.method == "both") {
     GradientOptions options;
     if (a.max_evaluations > 0) options.max_evaluations = a.max_evaluations;
-    options.optimizer = a.optimizer == "lbfgs" ? GradientOptimizer::kLbfgs : GradientOptimizer::kLevenbergMarquardt;
+    options.optimizer = optimizer_from_name(a.optimizer);
     results.push_back(identify_gradient(problem, options));
   }
   int status = 2;
