@@ -1,8 +1,33 @@
 #include "cell/background_worker.h"
 
-namespace cell {
+#include <sched.h>
 
-BackgroundWorker::BackgroundWorker() : thread_([this] { run(); }) {}
+#include <cerrno>
+#include <cstring>
+
+#include <fmt/format.h>
+
+namespace cell {
+namespace {
+
+// Applies `priority` to the calling thread (sched_setscheduler with pid 0 is the calling
+// thread's own policy on Linux). Lowering needs no privilege.
+std::string apply_to_this_thread(WorkerPriority priority) {
+  if (priority == WorkerPriority::kNormal) return "";
+  sched_param parameters{};
+  parameters.sched_priority = 0;
+  if (sched_setscheduler(0, SCHED_IDLE, &parameters) != 0) {
+    return fmt::format("SCHED_IDLE refused: {}", std::strerror(errno));
+  }
+  return "";
+}
+
+}  // namespace
+
+BackgroundWorker::BackgroundWorker(WorkerPriority priority)
+    : priority_(priority), thread_([this] { run(); }) {}
+
+std::string BackgroundWorker::priority_problem() { return priority_problem_.get(); }
 
 BackgroundWorker::~BackgroundWorker() {
   {
@@ -22,6 +47,7 @@ void BackgroundWorker::enqueue(std::function<void()> job) {
 }
 
 void BackgroundWorker::run() {
+  priority_set_.set_value(apply_to_this_thread(priority_));
   for (;;) {
     std::function<void()> job;
     {

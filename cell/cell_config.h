@@ -19,10 +19,16 @@
 //            "joint_speed_scale": 0.25,       (fraction of the iiwa joint velocity limits)
 //            "release_timeout_s": 2,          (no gripper status after a release command for
 //                                              this long: the twin releases anyway, s)
-//            "twin_lockstep": false},         (true: every cycle waits for the twin's step;
+//            "twin_lockstep": false,          (true: every cycle waits for the twin's step;
 //                                              false: a cycle never waits, a step that is still
 //                                              running is taken up by a later cycle, and the
 //                                              next step covers the cycles it spanned)
+//            "twin_priority": "normal"},      ("idle": the twin's worker thread runs under
+//                                              Linux SCHED_IDLE, on the CPU the cycle's
+//                                              threads leave, preempted when they wake: for a
+//                                              machine that runs the cell alone, since any
+//                                              other busy process starves the twin;
+//                                              "normal": at the cycle's own priority)
 //   "twin": {"material_file": "composite.json",   (required; relative to this file)
 //            "sheet": {...}},                      (required; twin/sheet_spec.h; without a
 //                                                    "placement" the flat start is centred under
@@ -36,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "cell/background_worker.h"
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
 #include "tracking/sheet_tracker.h"
@@ -57,6 +64,7 @@ struct CellSettings {
   double joint_speed_scale = 0.25;
   double release_timeout_s = 2.0;
   bool twin_lockstep = false;
+  WorkerPriority twin_priority = WorkerPriority::kNormal;
 };
 
 struct CellConfig {

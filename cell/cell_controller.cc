@@ -32,7 +32,8 @@ CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fau
       bus_(bus),
       fault_injection_(fault_injection),
       tracker_(without_calibration_check(config_.tracker)),
-      calibration_(config_.tracker.calibration) {
+      calibration_(config_.tracker.calibration),
+      twin_worker_(config_.cell.twin_priority) {
   status_.cameras = static_cast<int>(config_.cameras.size());
   subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sheet_state_t>(
       std::string(drivers::channels::kSimTruth), [this](const prepreg_lcm::sheet_state_t& msg) {

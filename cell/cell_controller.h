@@ -98,6 +98,8 @@ class CellController {
   const RobotLink* robots() const { return robots_.get(); }
   const CameraSet& cameras() const { return cameras_; }
   std::uint64_t dropped_messages() const;  // statuses and faults dropped as malformed
+  // Empty when the twin's worker runs at cell.twin_priority; otherwise why it runs at normal.
+  std::string twin_priority_problem() { return twin_worker_.priority_problem(); }
 
  private:
   // cell_startup.cc

@@ -7,6 +7,7 @@
 //
 //   cell_benchmark [--seconds S] [--triangles 6000] [--hz 30] [--memory-every-s 60]
 //                  [--session DIR] [--phase both|still|moving] [--threads 1] [--lockstep]
+//                  [--twin-priority idle|normal]
 //
 // Prints per phase a line "figure: cell 848x480x3 twin N tris (PHASE): rate .. Hz latency median
 // .. ms p99 .. ms tracker .. twin step .. cycle ..", "memory: t=.. s rss=.. MB" every
@@ -63,6 +64,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bool lockstep = false;
   app.add_flag("--lockstep", lockstep, "cell.twin_lockstep: every cycle waits for the twin's step");
+  std::string twin_priority = "normal";
+  app.add_option("--twin-priority", twin_priority,
+                 "cell.twin_priority of the twin's worker thread (idle: for a machine that runs the cell alone)")
+      ->check(CLI::IsMember({"idle", "normal"}));
   app.add_option("--config", cell_path, "cell config (default: the fake cell)");
   app.add_option("--world", world_path, "world config (default: the fake world)");
   CLI11_PARSE(app, argc, argv);
@@ -88,6 +93,7 @@ int main(int argc, char** argv) {
     }
     config = cell_bench::bench_cell_config(cell_path, session_dir, hz, triangles, work);
     config.cell.twin_lockstep = lockstep;
+    config.cell.twin_priority = twin_priority == "idle" ? cell::WorkerPriority::kIdle : cell::WorkerPriority::kNormal;
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_benchmark: {}\n", e.what());
     return 1;
@@ -103,9 +109,12 @@ int main(int argc, char** argv) {
       fmt::print("cell_benchmark: start-up FAILED: {}\n", cell.reason());
       exit_code = 2;
     } else {
-      fmt::print("cell_benchmark: READY ({} cameras, twin {} triangles, {} Hz, {} OpenMP thread(s), twin {})\n",
+      const std::string priority_problem = cell.twin_priority_problem();
+      fmt::print("cell_benchmark: READY ({} cameras, twin {} triangles, {} Hz, {} OpenMP thread(s), twin {}, "
+                 "twin worker priority {})\n",
                  config.cameras.size(), config.sheet.mesh.triangle_count(), hz, threads,
-                 lockstep ? "in lockstep" : "at its own pace");
+                 lockstep ? "in lockstep" : "at its own pace",
+                 priority_problem.empty() ? twin_priority : "normal: " + priority_problem);
       std::fflush(stdout);
       const std::string label = fmt::format("cell {}x{}x{} twin {} tris", config.cameras.front().depth_mode.width,
                                             config.cameras.front().depth_mode.height, config.cameras.size(),

@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
   fmt::print("cell_controller: STARTING ({} cameras, {} arms, LCM {})\n", config.cameras.size(),
              config.hardware.arms.size(), config.cell.lcm_url);
   std::fflush(stdout);
+  if (const std::string why = cell.twin_priority_problem(); !why.empty()) {
+    fmt::print("cell_controller: note: the twin's worker runs at normal priority ({})\n", why);
+  }
   if (cell.startup() != cell::CellState::kReady) {
     fmt::print("cell_controller: FAILED: {}\n", cell.reason());
     return 2;

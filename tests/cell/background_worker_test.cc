@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <sched.h>
+
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
@@ -49,6 +51,19 @@ TEST_CASE("destroying the worker finishes the tasks already queued", "[cell][wor
     }
   }
   CHECK(done == 5);
+}
+
+// The twin's worker gives way to the cycle's threads: its tasks run under SCHED_IDLE, the
+// submitting thread and a normal worker under the default policy.
+TEST_CASE("an idle-priority worker runs its tasks under SCHED_IDLE, a normal one does not", "[cell][worker]") {
+  BackgroundWorker idle(WorkerPriority::kIdle);
+  BackgroundWorker normal;
+  const auto policy = [] { return sched_getscheduler(0); };
+  CHECK(idle.priority_problem().empty());
+  CHECK(normal.priority_problem().empty());
+  CHECK(idle.submit(policy).get() == SCHED_IDLE);
+  CHECK(normal.submit(policy).get() == SCHED_OTHER);
+  CHECK(policy() == SCHED_OTHER);
 }
 
 }  // namespace

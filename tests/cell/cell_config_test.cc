@@ -19,6 +19,7 @@ TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cel
   CHECK(c.plan_file == examples + "four_grasp_plan.json");
   CHECK(c.experiment_file == examples + "four_grasp_experiment.json");
   CHECK_FALSE(c.sheet_placement_given);
+  CHECK(c.cell.twin_priority == cell::WorkerPriority::kNormal);  // the default
   const cell::Experiment e = cell::read_experiment(c.experiment_file);
   REQUIRE(e.states.size() == 4);
   CHECK(e.states[1].actions.at(0).kind == cell::ExperimentAction::Kind::kRelease);
@@ -26,6 +27,15 @@ TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cel
   CHECK(e.states[2].actions.at(0).kind == cell::ExperimentAction::Kind::kMove);
   CHECK(e.states[2].actions.at(0).to_m.z() == Approx(1.15));
   CHECK(e.states[3].settle_s == 6.0);
+}
+
+TEST_CASE("cell.twin_priority reads idle and normal", "[cell]") {
+  testing_support::TempDir dir("cell_config");
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["cell"]["twin_priority"] = "normal";
+  CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kNormal);
+  f.config["cell"]["twin_priority"] = "idle";
+  CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kIdle);
 }
 
 TEST_CASE("cell config errors name the file and the field", "[cell]") {
@@ -50,6 +60,11 @@ TEST_CASE("cell config errors name the file and the field", "[cell]") {
     f.config["cell"]["min_cameras"] = 4;
     const std::string path = cell_test::write_files(dir, f);
     CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("min_cameras"));
+  }
+  SECTION("twin priority not one of idle, normal") {
+    f.config["cell"]["twin_priority"] = "low";
+    const std::string path = cell_test::write_files(dir, f);
+    CHECK_THROWS_WITH(cell::read_cell_config(path), Contains("cell.twin_priority") && Contains("\"idle\" or \"normal\""));
   }
   SECTION("move speed above the experiment's limit") {
     f.config["cell"]["move_speed_m_s"] = 0.2;
