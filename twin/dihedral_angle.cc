@@ -23,8 +23,10 @@ struct Wing {
   int slot[3];
 };
 
+// grad_phi and dc are filled only `with_second_derivatives` (for the exact Hessian): the
+// gradient needs c alone, and they were most of a gradient-only evaluation's cost.
 Wing make_wing(const Vec3& x0, const Vec3& e_hat, double l, const Vec3& free_vertex,
-               const Vec3& n, int free_slot) {
+               const Vec3& n, int free_slot, bool with_second_derivatives) {
   Wing w;
   w.n = n;
   w.slot[0] = 0;
@@ -39,6 +41,7 @@ Wing make_wing(const Vec3& x0, const Vec3& e_hat, double l, const Vec3& free_ver
   w.c[0] = (1.0 - s) / h;
   w.c[1] = s / h;
   w.c[2] = -1.0 / h;
+  if (!with_second_derivatives) return w;
   w.grad_phi[0] = ((s - 1.0) / h) * m - e_hat / l;
   w.grad_phi[1] = -(s / h) * m + e_hat / l;
   w.grad_phi[2] = m / h;
@@ -64,7 +67,8 @@ double dihedral_angle(const Vec12& xh, Vec12* grad, Mat12* hess) {
   const double theta = std::atan2(ua.cross(ub).dot(e_hat), ua.dot(ub));
   if (!grad && !hess) return theta;
 
-  const Wing wings[2] = {make_wing(x0, e_hat, l, x2, ua, 2), make_wing(x0, e_hat, l, x3, ub, 3)};
+  const bool second = hess != nullptr;
+  const Wing wings[2] = {make_wing(x0, e_hat, l, x2, ua, 2, second), make_wing(x0, e_hat, l, x3, ub, 3, second)};
   if (grad) {
     grad->setZero();
     for (const Wing& w : wings) {
