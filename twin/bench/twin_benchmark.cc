@@ -4,7 +4,10 @@
 // the static equilibrium from the flat sheet (time, Newton iterations), the implicit
 // backward-Euler step (dt 10 ms, median and 90th percentile over >= 100 steps after warm-up,
 // while one clamp circles so the sheet keeps moving) solved to convergence and linearised (one
-// Newton iteration, the paper engine's scheme), and the peak resident memory.
+// Newton iteration, the paper engine's scheme), and the peak resident memory. Then where a
+// linearised step's time goes, on the moving sheet after the timed steps: one evaluation of
+// energy and gradient, one assembly of the projected Hessian, one numeric factorisation and one
+// solve with it (median of 20 each).
 //
 // Each (mesh, threads) case runs in its own process so peak RSS and thread settings are its own.
 // Usage: twin_benchmark [--steps N] [--sizes 1500,6000,24000] [--threads 1,2] [--linearized-only]
@@ -25,7 +28,10 @@
 #include <fmt/format.h>
 
 #include "twin/bench/benchmark_sheet.h"
+#include "twin/hessian_pattern.h"
 #include "twin/implicit_stepper.h"
+#include "twin/objective.h"
+#include "twin/sparse_cholesky.h"
 #include "twin/static_solver.h"
 
 namespace {
@@ -40,6 +46,49 @@ double seconds_since(Clock::time_point t) {
 double percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(p * v.size())))];
+}
+
+constexpr double step_dt_s = 0.01;
+constexpr int warm_up_steps = 10;
+
+template <typename F>
+double median_ms(int repeats, F&& work) {
+  std::vector<double> ms;
+  for (int i = 0; i < repeats; ++i) {
+    const auto t0 = Clock::now();
+    work();
+    ms.push_back(1e3 * seconds_since(t0));
+  }
+  return percentile(ms, 0.5);
+}
+
+// The parts of a linearised step (what ImplicitStepper and NewtonLinearSolver do in it), timed
+// one by one on the moving sheet x, v with the clamps where they are at t_s.
+void print_step_parts(const bench::BenchmarkSheet& sheet, const VecX& x, const VecX& v, double t_s) {
+  const DofMap dofs = sheet.model.hold_clamps(sheet.clamps, sheet.circling_poses(t_s));
+  InertiaTerm inertia(sheet.model.vertex_masses_kg(), sheet.model.material().mass_damping_1_s);
+  inertia.set_step(x, v, step_dt_s);
+  std::vector<const EnergyTerm*> terms = sheet.model.potential_terms();
+  terms.push_back(&inertia);
+  const Objective objective(terms);
+  HessianPattern hessian(dofs, objective.stencils());
+  SparseCholesky cholesky;
+  cholesky.analyze(hessian.matrix());
+  VecX grad(x.size());
+  const int repeats = 20;
+  const double gradient_ms =
+      median_ms(repeats, [&] { objective.evaluate(x, &grad, nullptr, HessianMode::kProjected); });
+  const double assembly_ms =
+      median_ms(repeats, [&] { objective.evaluate(x, nullptr, &hessian, HessianMode::kProjected); });
+  bool factorized = true;
+  const double factor_ms = median_ms(repeats, [&] { factorized = cholesky.factorize(hessian.matrix()) && factorized; });
+  const VecX rhs = VecX::Ones(hessian.matrix().rows());
+  VecX solution;
+  const double solve_ms = median_ms(repeats, [&] { solution = cholesky.solve(rhs); });
+  fmt::print("    step parts     energy+gradient {:.2f} ms  Hessian assembly {:.2f} ms  factorisation {:.2f} ms "
+             "({:.1f} MFlop, {:.0f} factor non-zeros{})  one solve {:.2f} ms\n",
+             gradient_ms, assembly_ms, factor_ms, cholesky.factor_flops() / 1e6, cholesky.factor_nonzeros(),
+             factorized ? "" : ", NOT positive definite", solve_ms);
 }
 
 int run_case(int triangles, int threads, int steps, bool converged_too) {
@@ -59,13 +108,14 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
   struct StepFigures {
     std::vector<double> ms;
     int newton = 0, failed = 0, substeps = 0;
+    VecX x_end, v_end;  // the sheet after the last step
   };
   auto run_steps = [&](const StepOptions& options) {
     StepFigures f;
     ImplicitStepper stepper(model);
     VecX xs = x, v = VecX::Zero(x.size());
-    const double dt = 0.01;
-    const int warm_up = 10;
+    const double dt = step_dt_s;
+    const int warm_up = warm_up_steps;
     for (int s = 0; s < warm_up + steps; ++s) {
       const std::vector<ClampPose> moving = sheet.circling_poses((s + 1) * dt);
       const auto t0 = Clock::now();
@@ -77,6 +127,8 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
       f.substeps += stepper.last_substeps();
       if (!r.usable()) ++f.failed;
     }
+    f.x_end = xs;
+    f.v_end = v;
     return f;
   };
   const StepFigures converged = converged_too ? run_steps(default_step_options()) : StepFigures{};
@@ -96,6 +148,7 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
   };
   if (converged_too) print_steps("converged BE", converged);
   print_steps("linearized BE", linearized);
+  print_step_parts(sheet, linearized.x_end, linearized.v_end, (warm_up_steps + steps + 1) * step_dt_s);
   std::fflush(stdout);
   const int failed = converged.failed + linearized.failed;
   return equilibrium.usable() && failed == 0 ? 0 : 1;
