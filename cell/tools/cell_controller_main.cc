@@ -23,12 +23,12 @@
 #include <atomic>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <vector>
 
 #include "cell/cell_config.h"
 #include "cell/cell_controller.h"
 #include "cell/experiment_runner.h"
+#include "twin/atomic_file.h"
 
 namespace {
 
@@ -144,7 +144,16 @@ int main(int argc, char** argv) {
       experiment_printed = true;
       fmt::print("\nexperiment ({}):\n{}\n", config.experiment_file, cell::format_results(runner->results()));
       if (!out_dir.empty()) {
-        std::ofstream(std::filesystem::path(out_dir) / "experiment.json") << cell::results_json(runner->results()).dump(2) << "\n";
+        // Atomically: a reader that polls for the file (the integration test, a shop-floor
+        // script) must never find it empty or half written (seen in CI, 2026-11-26).
+        const std::filesystem::path results = std::filesystem::path(out_dir) / "experiment.json";
+        try {
+          twin::write_file_atomically(results, [&](std::ostream& out) {
+            out << cell::results_json(runner->results()).dump(2) << "\n";
+          });
+        } catch (const std::exception& e) {
+          fmt::print(stderr, "cell_controller: could not write {}: {}\n", results.string(), e.what());
+        }
       }
       if (exit_after) break;
     }
