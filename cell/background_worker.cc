@@ -24,6 +24,12 @@ std::string apply_to_this_thread(WorkerPriority priority) {
 
 }  // namespace
 
+std::optional<WorkerPriority> worker_priority_from_name(const std::string& name) {
+  if (name == "normal") return WorkerPriority::kNormal;
+  if (name == "idle") return WorkerPriority::kIdle;
+  return std::nullopt;
+}
+
 BackgroundWorker::BackgroundWorker(WorkerPriority priority)
     : priority_(priority), thread_([this] { run(); }) {}
 

@@ -12,12 +12,15 @@
 #include <functional>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
 namespace cell {
 
 enum class WorkerPriority { kNormal, kIdle };
+// "normal" / "idle", as config files and command lines spell them; nullopt for another name.
+std::optional<WorkerPriority> worker_priority_from_name(const std::string& name);
 
 class BackgroundWorker {
  public:

@@ -43,14 +43,9 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
     s.twin_lockstep = v->json().get<bool>();
   }
   if (auto v = f.optional("twin_priority")) {
-    const std::string priority = v->string();
-    if (priority == "idle") {
-      s.twin_priority = WorkerPriority::kIdle;
-    } else if (priority == "normal") {
-      s.twin_priority = WorkerPriority::kNormal;
-    } else {
-      v->fail("must be \"idle\" or \"normal\"");
-    }
+    const std::optional<WorkerPriority> priority = worker_priority_from_name(v->string());
+    if (!priority) v->fail("must be \"idle\" or \"normal\"");
+    s.twin_priority = *priority;
   }
 }
 

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     }
     config = cell_bench::bench_cell_config(cell_path, session_dir, hz, triangles, work);
     config.cell.twin_lockstep = lockstep;
-    config.cell.twin_priority = twin_priority == "idle" ? cell::WorkerPriority::kIdle : cell::WorkerPriority::kNormal;
+    config.cell.twin_priority = *cell::worker_priority_from_name(twin_priority);  // checked by CLI11
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_benchmark: {}\n", e.what());
     return 1;

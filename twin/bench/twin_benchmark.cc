@@ -33,6 +33,7 @@
 #include "twin/objective.h"
 #include "twin/sparse_cholesky.h"
 #include "twin/static_solver.h"
+#include "twin/viscosity_term.h"
 
 namespace {
 
@@ -66,10 +67,16 @@ double median_ms(int repeats, F&& work) {
 // one by one on the moving sheet x, v with the clamps where they are at t_s.
 void print_step_parts(const bench::BenchmarkSheet& sheet, const VecX& x, const VecX& v, double t_s) {
   const DofMap dofs = sheet.model.hold_clamps(sheet.clamps, sheet.circling_poses(t_s));
-  InertiaTerm inertia(sheet.model.vertex_masses_kg(), sheet.model.material().mass_damping_1_s);
+  const ShellModel& model = sheet.model;
+  InertiaTerm inertia(model.vertex_masses_kg(), model.material().mass_damping_1_s);
   inertia.set_step(x, v, step_dt_s);
-  std::vector<const EnergyTerm*> terms = sheet.model.potential_terms();
+  ViscosityTerm viscosity(model.membrane().elements(), model.vertex_count(),
+                          model.material().tensile_viscosity_Ns_m, model.material().shear_viscosity_Ns_m);
+  viscosity.set_step(x, step_dt_s);
+  // The stepper's terms: potential, inertia, and the strain-rate viscosity when there is some.
+  std::vector<const EnergyTerm*> terms = model.potential_terms();
   terms.push_back(&inertia);
+  if (viscosity.active()) terms.push_back(&viscosity);
   const Objective objective(terms);
   HessianPattern hessian(dofs, objective.stencils());
   SparseCholesky cholesky;
