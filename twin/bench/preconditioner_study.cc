@@ -7,7 +7,11 @@
 // factor needs on the Hessian some steps later, with every part new and with only one part new:
 // the membrane's material stiffness (A J^T C J, which turns with the elements), its geometric
 // stiffness (the stress term), the hinge bending, and the viscosity (whose Jacobian is taken at
-// the step's start). It then prices the cheaper factor of a 1-ring pattern (the hinges' two
+// the step's start). The last column applies the old factor in rotated frames (z = R L^-T L^-1
+// R^T r, R a rotation per vertex from its normal and an edge at both times), which would undo
+// rigid turning of the material stiffness: it barely helps (measured at 6k: 5/10/15/29/82 CG
+// iterations at lags 1/2/3/5/10 unwarped, 5/9/11/20/39 warped), so the ageing is the elements
+// turning against their neighbours (the sheet bending), not the sheet turning. It then prices the cheaper factor of a 1-ring pattern (the hinges' two
 // wing-tip vertices are not 1-ring neighbours; their couplings are lumped onto the diagonal, so
 // the matrix stays positive definite) against the full pattern's.
 //
@@ -137,6 +141,66 @@ Matrix restricted_lumped(const Matrix& full, const Matrix& pattern_of) {
   return out;
 }
 
+// Per-vertex rotations from x_from to x_to: each vertex's frame (its area-weighted normal and
+// the direction to its first neighbour, made orthogonal) at both, R = Q_to Q_from^T.
+std::vector<Mat3> vertex_rotations(const SheetMesh& mesh, const VecX& x_from, const VecX& x_to) {
+  const int n = mesh.vertex_count();
+  std::vector<Vec3> n_from(n, Vec3::Zero()), n_to(n, Vec3::Zero());
+  std::vector<int> neighbour(n, -1);
+  for (const auto& t : mesh.triangles) {
+    auto p = [&](const VecX& x, int k) { return Vec3(x.segment<3>(3 * t[k])); };
+    const Vec3 a = (p(x_from, 1) - p(x_from, 0)).cross(p(x_from, 2) - p(x_from, 0));
+    const Vec3 b = (p(x_to, 1) - p(x_to, 0)).cross(p(x_to, 2) - p(x_to, 0));
+    for (int k = 0; k < 3; ++k) {
+      n_from[t[k]] += a;
+      n_to[t[k]] += b;
+      if (neighbour[t[k]] < 0) neighbour[t[k]] = t[(k + 1) % 3];
+    }
+  }
+  auto frame = [&](const VecX& x, const Vec3& normal, int i) {
+    const Vec3 nz = normal.normalized();
+    const Vec3 e = x.segment<3>(3 * neighbour[i]) - x.segment<3>(3 * i);
+    const Vec3 tx = (e - e.dot(nz) * nz).normalized();
+    Mat3 q;
+    q << tx, nz.cross(tx), nz;
+    return q;
+  };
+  std::vector<Mat3> r(n);
+  for (int i = 0; i < n; ++i) r[i] = frame(x_to, n_to[i], i) * frame(x_from, n_from[i], i).transpose();
+  return r;
+}
+
+// As cg_iterations, with the factor applied in the rotated frames: z = R L^-T L^-1 R^T r.
+int warped_cg_iterations(const Matrix& upper, const SparseCholesky& factor, const VecX& rhs, const DofMap& dofs,
+                         const std::vector<Mat3>& rotation) {
+  auto rotate = [&](const VecX& in, bool transpose) {
+    VecX out(in.size());
+    for (int v = 0; v < dofs.vertex_count(); ++v) {
+      const int f = dofs.free_index(v);
+      if (f < 0) continue;
+      out.segment<3>(3 * f) = transpose ? Vec3(rotation[v].transpose() * in.segment<3>(3 * f))
+                                        : Vec3(rotation[v] * in.segment<3>(3 * f));
+    }
+    return out;
+  };
+  auto precondition = [&](const VecX& r) { return rotate(factor.solve(rotate(r, true)), false); };
+  const auto h = upper.selfadjointView<Eigen::Upper>();
+  VecX x = VecX::Zero(rhs.size()), r = rhs, z = precondition(r), p = z;
+  double rz = r.dot(z);
+  for (int it = 0; it < 200; ++it) {
+    if (r.norm() <= 1e-2 * rhs.norm()) return it;
+    const VecX hp = h * p;
+    const double alpha = rz / p.dot(hp);
+    x += alpha * p;
+    r -= alpha * hp;
+    z = precondition(r);
+    const double next = r.dot(z);
+    p = z + (next / rz) * p;
+    rz = next;
+  }
+  return 200;
+}
+
 double factorize_ms(SparseCholesky& factor, const Matrix& upper) {
   constexpr int kRepeats = 5;
   const auto start = Clock::now();
@@ -162,7 +226,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   // States x_k at the start of each step k (and v_k), stepping with the cell's linearized scheme.
-  const std::vector<int> lags = {1, 2, 3, 5};
+  const std::vector<int> lags = {1, 2, 3, 5, 10, 20, 40};
   const double dt_s = 0.01;
   std::vector<VecX> xs, vs;
   ImplicitStepper stepper(model);
@@ -202,8 +266,8 @@ int main(int argc, char** argv) {
   fmt::print("preconditioner study: {} triangles, {} free DOFs, factor of step {}'s Hessian; CG iterations "
              "to a relative residual of 1e-2 on the Hessian of a later step (a random right-hand side)\n",
              model.mesh().triangle_count(), dofs.free_dof_count(), start_step);
-  fmt::print("{:>5} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>10}\n", "lag", "max move", "all new",
-             "membrane", " material", "geometric", "bending", "viscosity");
+  fmt::print("{:>5} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>10} {:>8}\n", "lag", "max move", "all new",
+             "membrane", " material", "geometric", "bending", "viscosity", "warped");
   const Mat3 stiffness = material.membrane_stiffness();
   for (int lag : lags) {
     const VecX& x1 = xs[start_step + lag];
@@ -213,14 +277,18 @@ int main(int argc, char** argv) {
     auto count = [&](const std::vector<std::pair<const EnergyTerm*, const VecX*>>& parts) {
       return cg_iterations(hessian_of(dofs, parts), factor, rhs);
     };
-    fmt::print("{:>5} {:>7.2f} mm {:>9} {:>9} {:>10} {:>10} {:>8} {:>10}\n", lag,
+    const auto rotation = vertex_rotations(model.mesh(), x0, x1);
+    fmt::print("{:>5} {:>7.2f} mm {:>9} {:>9} {:>10} {:>10} {:>8} {:>10} {:>8}\n", lag,
                1e3 * (x1 - x0).cwiseAbs().maxCoeff(),
                count({{membrane, &x1}, {bending, &x1}, {&inertia, &x1}, {viscosity1.get(), &x1}}),
                count({{membrane, &x1}, {bending, &x0}, {&inertia, &x0}, {viscosity0.get(), &x0}}),
                count({{&new_material, &x0}, {bending, &x0}, {&inertia, &x0}, {viscosity0.get(), &x0}}),
                count({{&new_stress, &x0}, {bending, &x0}, {&inertia, &x0}, {viscosity0.get(), &x0}}),
                count({{membrane, &x0}, {bending, &x1}, {&inertia, &x0}, {viscosity0.get(), &x0}}),
-               count({{membrane, &x0}, {bending, &x0}, {&inertia, &x0}, {viscosity1.get(), &x1}}));
+               count({{membrane, &x0}, {bending, &x0}, {&inertia, &x0}, {viscosity1.get(), &x1}}),
+               warped_cg_iterations(hessian_of(dofs, {{membrane, &x1}, {bending, &x1}, {&inertia, &x1},
+                                                      {viscosity1.get(), &x1}}),
+                                    factor, rhs, dofs, rotation));
   }
 
   // A factor of the current Hessian on the 1-ring pattern, against the full pattern's.
