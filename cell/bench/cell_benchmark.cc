@@ -110,9 +110,10 @@ int main(int argc, char** argv) {
       exit_code = 2;
     } else {
       const std::string priority_problem = cell.twin_priority_problem();
-      fmt::print("cell_benchmark: READY ({} cameras, twin {} triangles, {} Hz, {} OpenMP thread(s), twin {}, "
-                 "twin worker priority {})\n",
-                 config.cameras.size(), config.sheet.mesh.triangle_count(), hz, threads,
+      fmt::print("cell_benchmark: READY ({} cameras, pixel stride {}, twin {} triangles, {} Hz, {} OpenMP thread(s), "
+                 "twin {}, twin worker priority {})\n",
+                 config.cameras.size(), config.tracker.fusion.pixel_stride, config.sheet.mesh.triangle_count(), hz,
+                 threads,
                  lockstep ? "in lockstep" : "at its own pace",
                  priority_problem.empty() ? twin_priority : "normal: " + priority_problem);
       std::fflush(stdout);
