@@ -11,9 +11,10 @@
 // R^T r, R a rotation per vertex from its normal and an edge at both times), which would undo
 // rigid turning of the material stiffness: it barely helps (measured at 6k: 5/10/15/29/82 CG
 // iterations at lags 1/2/3/5/10 unwarped, 5/9/11/20/39 warped), so the ageing is the elements
-// turning against their neighbours (the sheet bending), not the sheet turning. It then prices the cheaper factor of a 1-ring pattern (the hinges' two
-// wing-tip vertices are not 1-ring neighbours; their couplings are lumped onto the diagonal, so
-// the matrix stays positive definite) against the full pattern's.
+// turning against their neighbours (the sheet bending), not the sheet turning. It then prices
+// the cheaper factor of a 1-ring pattern (the hinges' two wing-tip vertices are not 1-ring
+// neighbours; their couplings are lumped onto the diagonal, so the matrix stays positive
+// definite) against the full pattern's.
 //
 // Usage: twin_preconditioner_study [--triangles 6000] [--start-step 30]
 
@@ -96,10 +97,11 @@ Matrix hessian_of(const DofMap& dofs, const std::vector<std::pair<const EnergyTe
 }
 
 // CG iterations to a relative residual of 1e-2 on `upper` (symmetric, upper triangle stored),
-// preconditioned with `factor`, from zero; 200 means it did not get there.
-int cg_iterations(const Matrix& upper, const SparseCholesky& factor, const VecX& rhs) {
+// preconditioned by `precondition` (r -> z), from zero; 200 means it did not get there.
+template <typename Preconditioner>
+int cg_iterations(const Matrix& upper, const Preconditioner& precondition, const VecX& rhs) {
   const auto h = upper.selfadjointView<Eigen::Upper>();
-  VecX x = VecX::Zero(rhs.size()), r = rhs, z = factor.solve(r), p = z;
+  VecX x = VecX::Zero(rhs.size()), r = rhs, z = precondition(r), p = z;
   double rz = r.dot(z);
   for (int it = 0; it < 200; ++it) {
     if (r.norm() <= 1e-2 * rhs.norm()) return it;
@@ -107,12 +109,16 @@ int cg_iterations(const Matrix& upper, const SparseCholesky& factor, const VecX&
     const double alpha = rz / p.dot(hp);
     x += alpha * p;
     r -= alpha * hp;
-    z = factor.solve(r);
+    z = precondition(r);
     const double next = r.dot(z);
     p = z + (next / rz) * p;
     rz = next;
   }
   return 200;
+}
+
+int cg_iterations(const Matrix& upper, const SparseCholesky& factor, const VecX& rhs) {
+  return cg_iterations(upper, [&](const VecX& r) { return factor.solve(r); }, rhs);
 }
 
 // `full` restricted to the pattern of `pattern_of`, with each dropped |h_ij| added to both
@@ -183,22 +189,7 @@ int warped_cg_iterations(const Matrix& upper, const SparseCholesky& factor, cons
     }
     return out;
   };
-  auto precondition = [&](const VecX& r) { return rotate(factor.solve(rotate(r, true)), false); };
-  const auto h = upper.selfadjointView<Eigen::Upper>();
-  VecX x = VecX::Zero(rhs.size()), r = rhs, z = precondition(r), p = z;
-  double rz = r.dot(z);
-  for (int it = 0; it < 200; ++it) {
-    if (r.norm() <= 1e-2 * rhs.norm()) return it;
-    const VecX hp = h * p;
-    const double alpha = rz / p.dot(hp);
-    x += alpha * p;
-    r -= alpha * hp;
-    z = precondition(r);
-    const double next = r.dot(z);
-    p = z + (next / rz) * p;
-    rz = next;
-  }
-  return 200;
+  return cg_iterations(upper, [&](const VecX& r) { return rotate(factor.solve(rotate(r, true)), false); }, rhs);
 }
 
 double factorize_ms(SparseCholesky& factor, const Matrix& upper) {
