@@ -13,6 +13,7 @@
 #include "sim_hw/marker_scan.h"
 #include "twin/atomic_file.h"
 #include "twin/material_point.h"
+#include "twin/mesh_refinement.h"
 #include "twin/trial_simulation.h"
 
 namespace sim_hw {
@@ -186,8 +187,14 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
 
   // The "real" sheet: the lab's material on the reference mesh, with the markers glued on (they
   // weigh something only when the truth says so) and relaxing after each move if it does.
+  std::vector<Vec2> clamp_points;
+  for (const twin::ClampSpec& c : trial.clamps) clamp_points.push_back(c.material_point_m);
+  std::vector<twin::RefinementLevel> levels;
+  for (double r : config.reference_clamp_refinement_radii_m) levels.push_back({r});
   twin::ShellModel reference(
-      twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
+      twin::refine_near_points(
+          twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
+          clamp_points, levels),
       truth);
   const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   reference.set_marker_points(markers);
@@ -279,6 +286,7 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
   j["specimen"] = config.specimen;
   j["seed"] = config.seed;
   j["reference_triangles"] = config.reference_triangles;
+  j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
   j["marker_noise_m"] = config.marker_noise_m;
   j["probe_noise_m"] = config.probe_noise_m;
   j["scan_noise_m"] = config.scan_noise_m;

@@ -29,6 +29,10 @@ struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
   int reference_triangles = 6000;  // the "real" sheet's mesh; the twin should use a coarser one
+  // Then refined near the clamps, one level per radius (m; twin/mesh_refinement.h): finer where
+  // the sheet is most curved and where the jaws' grip (1.5 cm radius) is smaller than the
+  // uniform mesh's triangles. Empty: the uniform mesh, as before 2026-11-26.
+  std::vector<double> reference_clamp_refinement_radii_m;
   int marker_rows = 17, marker_cols = 17;
   double marker_noise_m = 0.3e-3;  // per marker after extraction, each axis (1 sigma)
   double probe_noise_m = 0.05e-3;  // contact probe on the clamps, each axis (1 sigma)

@@ -14,6 +14,7 @@
 #include "twin/json_field.h"
 #include "twin/mesh_io.h"
 #include "twin/mesh_io_internal.h"
+#include "twin/mesh_refinement.h"
 #include "twin/trial_internal.h"
 
 namespace twin {
@@ -401,6 +402,16 @@ SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles) {
   }
   const double w = trial.sheet.width_m, h = trial.sheet.height_m;
   return make_rectangular_sheet(w, h, edge_length_for_triangle_count(w, h, target_triangles));
+}
+
+SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec) {
+  SheetMesh mesh = trial_sheet_mesh(trial, spec.triangles);
+  if (spec.clamp_refinement_radii_m.empty()) return mesh;
+  std::vector<Vec2> clamp_points;
+  for (const ClampSpec& c : trial.clamps) clamp_points.push_back(c.material_point_m);
+  std::vector<RefinementLevel> levels;
+  for (double r : spec.clamp_refinement_radii_m) levels.push_back({r});
+  return refine_near_points(mesh, clamp_points, levels);
 }
 
 }  // namespace twin

@@ -102,6 +102,16 @@ double max_clamp_distance_m(double sheet_distance_m);
 // (make_rectangular_sheet), or the given mesh file as it is.
 SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles);
 
+// How the twin of a trial's sheet is meshed: about `triangles` triangles (ignored for a sheet
+// given as a mesh file), then refined once per radius near every clamp's material point
+// (mesh_refinement.h; each level halves the edges within that distance, in m). Where a clamp
+// holds the sheet it is sharply curved, and a coarse triangle would hold more than the jaws do.
+struct TwinMeshSpec {
+  int triangles = 1500;
+  std::vector<double> clamp_refinement_radii_m;
+};
+SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec);
+
 // Writes trial.json and every stage's marker / cloud files into `directory` (created if
 // needed; files replaced atomically). File names are the stages' markers_file / cloud_file,
 // or "<id>.xyz" / "<id>_cloud.xyz" when empty. Raw scans are written by whoever made them.

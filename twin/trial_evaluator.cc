@@ -60,9 +60,9 @@ double TrialFit::nearest_score_m(double max_weight) const {
   return sum;
 }
 
-TrialEvaluator::TrialEvaluator(Trial trial, int twin_triangles, const Material& material)
+TrialEvaluator::TrialEvaluator(Trial trial, const TwinMeshSpec& twin_mesh, const Material& material)
     : trial_(std::move(trial)),
-      model_(std::make_unique<ShellModel>(trial_sheet_mesh(trial_, twin_triangles), material)),
+      model_(std::make_unique<ShellModel>(trial_sheet_mesh(trial_, twin_mesh), material)),
       clamps_(model_->mesh(), trial_.clamps),
       markers_(std::make_unique<MaterialPointMap>(model_->mesh(), trial_.marker_uv_m)),
       placement_(fit_level_placement(trial_.clamps, trial_.stages.at(0).poses)),

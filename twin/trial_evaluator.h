@@ -34,6 +34,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -85,9 +86,12 @@ class TrialEvaluator {
   // against a fresh one (the better is kept): continuation can carry a fold onto a wrong branch.
   static constexpr double kBranchCheckRatio = 4.0;
 
-  // Builds the twin of the trial's sheet with about `twin_triangles` triangles. Throws
-  // std::invalid_argument when markers or clamps are off the sheet or the material is invalid.
-  TrialEvaluator(Trial trial, int twin_triangles, const Material& material);
+  // Builds the twin of the trial's sheet, meshed as `twin_mesh` says (or with about
+  // `twin_triangles` triangles, unrefined). Throws std::invalid_argument when markers or clamps
+  // are off the sheet or the material is invalid.
+  TrialEvaluator(Trial trial, const TwinMeshSpec& twin_mesh, const Material& material);
+  TrialEvaluator(Trial trial, int twin_triangles, const Material& material)
+      : TrialEvaluator(std::move(trial), TwinMeshSpec{twin_triangles, {}}, material) {}
   ~TrialEvaluator();
   TrialEvaluator(const TrialEvaluator&) = delete;
   TrialEvaluator& operator=(const TrialEvaluator&) = delete;

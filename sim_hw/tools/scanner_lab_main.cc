@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
   app.add_option("--truth", truth, "directory for the truth (default: OUT.truth)");
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
   app.add_option("--reference-triangles", config.reference_triangles, "triangles of the reference sheet");
+  app.add_option("--reference-clamp-refinement", config.reference_clamp_refinement_radii_m,
+                 "radii (m), comma-separated: each halves the reference's edges within that distance of every clamp")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   app.add_option("--marker-noise-m", config.marker_noise_m, "marker position noise, 1 sigma per axis (m)");
   app.add_flag("!--no-scans", config.raw_scans, "do not write raw scan points");
 

@@ -195,6 +195,7 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
   const std::string log = (dir / "log.txt").string();
   const std::string command = std::string(TWIN_EXE) + " --threads 1 identify --train " + trial_dir + " --test " +
                               trial_dir + " --out " + out + " --triangles " + std::to_string(kTriangles) +
+                              " --clamp-refinement none"  // the lab's own mesh: recovery to the noise
                               " --parameters shear_N_m,bending_Nm --residuals " + (dir / "res").string() +
                               " > " + log + " 2>&1";
   const int status = std::system(command.c_str());
@@ -225,6 +226,14 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
   std::ifstream again(log);
   const std::string message((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
   CHECK(message.find("stiffness") != std::string::npos);
+  // A refinement radius that is not a positive length: exit 1, the option and the value named.
+  const std::string bad_radius = std::string(TWIN_EXE) + " identify --train " + trial_dir + " --out " + out +
+                                 " --clamp-refinement 0.1,-2 > " + log + " 2>&1";
+  CHECK(WEXITSTATUS(std::system(bad_radius.c_str())) == 1);
+  std::ifstream third(log);
+  const std::string radius_message((std::istreambuf_iterator<char>(third)), std::istreambuf_iterator<char>());
+  CHECK(radius_message.find("--clamp-refinement") != std::string::npos);
+  CHECK(radius_message.find("'-2'") != std::string::npos);
 }
 
 }  // namespace

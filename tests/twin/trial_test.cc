@@ -256,6 +256,30 @@ TEST_CASE("a rectangular trial sheet is meshed to about the asked triangle count
   CHECK(mesh.total_rest_area() == Approx(0.12));
 }
 
+TEST_CASE("a trial's twin mesh is refined near its clamps when asked", "[twin][trial]") {
+  const Trial trial = small_trial();
+  const SheetMesh plain = trial_sheet_mesh(trial, TwinMeshSpec{500, {}});
+  const SheetMesh refined = trial_sheet_mesh(trial, TwinMeshSpec{500, {0.05}});
+  CHECK(plain.triangle_count() == trial_sheet_mesh(trial, 500).triangle_count());
+  CHECK(refined.triangle_count() > plain.triangle_count());
+  CHECK(refined.total_rest_area() == Approx(plain.total_rest_area()).epsilon(1e-12));
+  // Every clamp's host triangle is now a quarter of a coarse one (or less).
+  const double coarse_area = plain.total_rest_area() / plain.triangle_count();
+  for (const ClampSpec& clamp : trial.clamps) {
+    int host = -1;
+    for (int t = 0; t < refined.triangle_count() && host < 0; ++t) {
+      const auto& tri = refined.triangles[t];
+      const Vec2 a = refined.rest_uv[tri[0]], b = refined.rest_uv[tri[1]], c = refined.rest_uv[tri[2]];
+      auto side = [&](const Vec2& p, const Vec2& q) {
+        return (q - p).x() * (clamp.material_point_m - p).y() - (q - p).y() * (clamp.material_point_m - p).x();
+      };
+      if (side(a, b) >= 0 && side(b, c) >= 0 && side(c, a) >= 0) host = t;
+    }
+    REQUIRE(host >= 0);
+    CHECK(refined.rest_area(host) < 0.3 * coarse_area);
+  }
+}
+
 TEST_CASE("xyz files: comments, blank lines, CRLF and NaN markers", "[twin][trial]") {
   TempDir tmp;
   const fs::path path = tmp / "points.xyz";

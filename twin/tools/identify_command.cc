@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "twin/identification.h"
 #include "twin/residual_export.h"
@@ -24,6 +25,29 @@ std::vector<MaterialParameter> parse_parameter_list(const std::string& list) {
   }
   if (result.empty()) throw std::invalid_argument("--parameters: expected a comma-separated list of names");
   return result;
+}
+
+std::vector<double> parse_refinement_radii(const std::string& list) {
+  std::vector<double> radii;
+  if (list == "none") return radii;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double r = NAN;
+    try {
+      r = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || !std::isfinite(r) || r <= 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "--clamp-refinement: expected 'none' or comma-separated radii > 0 (m), got '{}'", item));
+    }
+    radii.push_back(r);
+  }
+  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'none' or radii (m)");
+  return radii;
 }
 
 // Start values and the properties that are not identified: the --start file, or the paper's
@@ -107,6 +131,9 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--residuals", a.residuals, "directory for per-marker residual files (CSV, PLY)");
   cmd->add_option("--triangles", a.triangles, "triangles of the twin's sheet mesh")->check(CLI::Range(50, 200000));
+  cmd->add_option("--clamp-refinement", a.clamp_refinement,
+                  "comma-separated radii (m): each halves the twin's edges within that distance of every "
+                  "clamp, in turn; none: no refinement (default 0.1)");
   cmd->add_option("--seed", a.seed, "ISRES random seed");
   cmd->add_option("--max-evaluations", a.max_evaluations, "optimiser evaluation budget (0: default)")
       ->check(CLI::NonNegativeNumber);
@@ -116,20 +143,24 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
 
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
+  const TwinMeshSpec mesh{a.triangles, parse_refinement_radii(a.clamp_refinement)};
   std::vector<Trial> train_trials, test_trials;
   for (const std::string& d : a.train) train_trials.push_back(read_trial(d));
   for (const std::string& d : a.test) test_trials.push_back(read_trial(d));
   const Material base = base_material(a, train_trials.front());
   base.validate();
   std::vector<std::unique_ptr<TrialEvaluator>> train, test;
-  for (Trial& t : train_trials) train.push_back(std::make_unique<TrialEvaluator>(std::move(t), a.triangles, base));
-  for (Trial& t : test_trials) test.push_back(std::make_unique<TrialEvaluator>(std::move(t), a.triangles, base));
+  for (Trial& t : train_trials) train.push_back(std::make_unique<TrialEvaluator>(std::move(t), mesh, base));
+  for (Trial& t : test_trials) test.push_back(std::make_unique<TrialEvaluator>(std::move(t), mesh, base));
   std::vector<TrialEvaluator*> training;
   for (auto& t : train) training.push_back(t.get());
 
-  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices\n",
+  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}\n",
              a.parameters, train.front()->trial().material_name, train.size(), test.size(),
-             train.front()->model().mesh().triangle_count(), train.front()->model().vertex_count());
+             train.front()->model().mesh().triangle_count(), train.front()->model().vertex_count(),
+             mesh.clamp_refinement_radii_m.empty()
+                 ? std::string()
+                 : fmt::format(" (refined near the clamps within {} m)", fmt::join(mesh.clamp_refinement_radii_m, ", ")));
   IdentificationProblem problem(training, base, parameters);
   int count = 0;
   if (!a.quiet) {

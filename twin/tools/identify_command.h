@@ -17,6 +17,9 @@ struct IdentifyArguments {
   std::string start;               // optional material file: start values and fixed properties
   std::string residuals;           // optional directory for per-marker residual files
   int triangles = 1500;
+  // --clamp-refinement: radii (m), one refinement level each, near every clamp (trial.h:
+  // TwinMeshSpec); "none" for the unrefined mesh.
+  std::string clamp_refinement = "0.1";
   unsigned seed = 1;
   int max_evaluations = 0;         // 0: the method's default
   bool quiet = false;
