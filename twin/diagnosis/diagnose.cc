@@ -29,10 +29,10 @@ Material start_material(const DiagnoseOptions& o, const Trial& first) {
   return m;
 }
 
-std::vector<std::unique_ptr<TrialEvaluator>> load(const std::vector<std::string>& dirs, int triangles,
+std::vector<std::unique_ptr<TrialEvaluator>> load(const std::vector<std::string>& dirs, const TwinMeshSpec& mesh,
                                                   const Material& material) {
   std::vector<std::unique_ptr<TrialEvaluator>> out;
-  for (const std::string& d : dirs) out.push_back(std::make_unique<TrialEvaluator>(read_trial(d), triangles, material));
+  for (const std::string& d : dirs) out.push_back(std::make_unique<TrialEvaluator>(read_trial(d), mesh, material));
   return out;
 }
 
@@ -60,8 +60,9 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   const Trial first = read_trial(o.train.front());
   Material start = start_material(o, first);
   start.validate();
-  auto train_owned = load(o.train, o.triangles, start);
-  auto test_owned = load(o.test, o.triangles, start);
+  const TwinMeshSpec mesh{o.triangles, o.clamp_refinement_radii_m};
+  auto train_owned = load(o.train, mesh, start);
+  auto test_owned = load(o.test, mesh, start);
   const std::vector<TrialEvaluator*> train = pointers(train_owned), test = pointers(test_owned);
 
   // 1. The base fit.

@@ -27,6 +27,9 @@ struct DiagnoseOptions {
   std::string report;                    // output directory
   std::string material;                  // optional start material file (fixed properties too)
   int triangles = 300;                   // twin mesh: coarse by default (many fits; the blind sets use it)
+  // Refinement near the clamps (trial.h: TwinMeshSpec). None by default: the blind-set figures
+  // were measured on uniform meshes.
+  std::vector<double> clamp_refinement_radii_m;
   double noise_mm = 0.0;                 // per-coordinate sigma (mm); 0: estimate it
   std::string effects;                   // comma-separated candidate names; "" = all
   int refits = 3;                        // candidates refitted, best score first

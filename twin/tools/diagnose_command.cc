@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "clamp_refinement_option.h"
+
 namespace twin_cli {
 
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
@@ -19,6 +21,9 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
   cmd->add_option("--material", o.material, "material file with start values and the fixed properties")
       ->check(CLI::ExistingFile);
   cmd->add_option("--triangles", o.triangles, "triangles of the twin's sheet mesh (default 300)")->check(CLI::Range(50, 200000));
+  cmd->add_option("--clamp-refinement", a.clamp_refinement,
+                  "comma-separated radii (m): each halves the twin's edges within that distance of every "
+                  "clamp, in turn; none: no refinement (default none)");
   cmd->add_option("--noise-mm", o.noise_mm, "measurement noise per coordinate, mm (default: estimated)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");
@@ -32,6 +37,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
 
 int run_diagnose(DiagnoseArguments& a) {
   if (!a.optimizer.empty()) a.options.optimizer = twin::optimizer_from_name(a.optimizer);
+  a.options.clamp_refinement_radii_m = parse_clamp_refinement(a.clamp_refinement);
   if (!a.quiet) {
     a.options.progress = [](const std::string& line) {
       fmt::print("{}\n", line);

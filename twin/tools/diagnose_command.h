@@ -12,6 +12,7 @@ struct DiagnoseArguments {
   twin::diagnosis::DiagnoseOptions options;
   bool quiet = false;
   std::string optimizer;  // "lm" or "lbfgs"; empty: the diagnosis default (kDiagnosisOptimizer)
+  std::string clamp_refinement = "none";  // --clamp-refinement (clamp_refinement_option.h)
 };
 
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& arguments);

@@ -10,6 +10,7 @@
 
 #include "twin/identification.h"
 #include "twin/residual_export.h"
+#include "clamp_refinement_option.h"
 
 namespace twin_cli {
 namespace {
@@ -25,29 +26,6 @@ std::vector<MaterialParameter> parse_parameter_list(const std::string& list) {
   }
   if (result.empty()) throw std::invalid_argument("--parameters: expected a comma-separated list of names");
   return result;
-}
-
-std::vector<double> parse_refinement_radii(const std::string& list) {
-  std::vector<double> radii;
-  if (list == "none") return radii;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double r = NAN;
-    try {
-      r = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != item.size() || !std::isfinite(r) || r <= 0.0) {
-      throw std::invalid_argument(fmt::format(
-          "--clamp-refinement: expected 'none' or comma-separated radii > 0 (m), got '{}'", item));
-    }
-    radii.push_back(r);
-  }
-  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'none' or radii (m)");
-  return radii;
 }
 
 // Start values and the properties that are not identified: the --start file, or the paper's
@@ -143,7 +121,7 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
 
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
-  const TwinMeshSpec mesh{a.triangles, parse_refinement_radii(a.clamp_refinement)};
+  const TwinMeshSpec mesh{a.triangles, parse_clamp_refinement(a.clamp_refinement)};
   std::vector<Trial> train_trials, test_trials;
   for (const std::string& d : a.train) train_trials.push_back(read_trial(d));
   for (const std::string& d : a.test) test_trials.push_back(read_trial(d));

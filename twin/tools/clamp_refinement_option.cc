@@ -1,0 +1,34 @@
+#include "clamp_refinement_option.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace twin_cli {
+
+std::vector<double> parse_clamp_refinement(const std::string& value) {
+  std::vector<double> radii;
+  if (value == "none") return radii;
+  std::stringstream in(value);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double r = NAN;
+    try {
+      r = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(r) || r <= 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "--clamp-refinement: expected 'none' or comma-separated radii > 0 (m), got '{}'", item));
+    }
+    radii.push_back(r);
+  }
+  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'none' or radii > 0 (m), got nothing");
+  return radii;
+}
+
+}  // namespace twin_cli
