@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -55,10 +56,13 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& co
     if (derivatives == Derivatives::kJacobian) {
       e.coordinate_jacobian.resize(e.residual_count, coordinates.size());
       e.residuals_m.resize(e.residual_count);
+      e.residual_blocks.clear();
       Eigen::Index row = 0;
-      for (const TrialFit& fit : e.fits) {
+      for (std::size_t t = 0; t < e.fits.size(); ++t) {
+        const TrialFit& fit = e.fits[t];
         e.coordinate_jacobian.middleRows(row, fit.residual_count) = fit.coordinate_jacobian;
         e.residuals_m.segment(row, fit.residual_count) = fit.residuals_m;
+        for (int b : fit.residual_blocks) e.residual_blocks.push_back(1000 * static_cast<int>(t) + b);
         row += fit.residual_count;
       }
     }
@@ -74,7 +78,7 @@ void IdentificationProblem::forget_warm_starts() {
   for (TrialEvaluator* t : training_) t->clear_warm_starts();
 }
 
-void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result) {
+void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result, IntervalKind kind) {
   const IdentificationProblem::Evaluation e =
       problem.evaluate(result.coordinates, Derivatives::kJacobian, /*max_weight=*/0.5);
   ++result.simulations;
@@ -108,10 +112,35 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
       unbounded += v.cwiseAbs();  // directions the data do not see at all
     }
   }
+  // Cluster-robust covariance over blocks of correlated residuals (see the header).
+  Eigen::MatrixXd robust = Eigen::MatrixXd::Zero(P, P);
+  if (kind == IntervalKind::kFisherOrBlocks &&
+      e.residual_blocks.size() == static_cast<std::size_t>(e.residuals_m.size())) {
+    Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(P, P);  // pseudo-inverse of J^T J
+    for (Eigen::Index k = 0; k < P; ++k) {
+      const double lambda = eig.eigenvalues()(k);
+      if (lambda > 1e-12 * largest && lambda > 0.0) {
+        bread += eig.eigenvectors().col(k) * eig.eigenvectors().col(k).transpose() / lambda;
+      }
+    }
+    std::map<int, VecX> scores;  // per block: J_b^T r_b
+    for (Eigen::Index i = 0; i < e.residuals_m.size(); ++i) {
+      auto [it, fresh] = scores.try_emplace(e.residual_blocks[i], VecX::Zero(P));
+      it->second += e.coordinate_jacobian.row(i).transpose() * e.residuals_m(i);
+    }
+    const double blocks = static_cast<double>(scores.size());
+    if (blocks > 1.0) {
+      Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(P, P);
+      for (const auto& [block, score] : scores) meat += score * score.transpose();
+      robust = bread * meat * bread * (blocks / (blocks - 1.0));
+    }
+  }
   for (Eigen::Index j = 0; j < P; ++j) {
     ParameterEstimate& est = result.estimates[j];
     if (unbounded(j) > 1e-3) continue;
-    const double half_width = 1.96 * std::sqrt(covariance(j, j));  // in the search coordinate
+    est.block_robust = robust(j, j) > covariance(j, j);
+    const double variance = std::max(covariance(j, j), robust(j, j));
+    const double half_width = 1.96 * std::sqrt(variance);  // in the search coordinate
     const double y = result.coordinates(j);
     est.lower95 = from_search_coordinate(est.parameter, y - half_width);
     est.upper95 = from_search_coordinate(est.parameter, y + half_width);

@@ -42,6 +42,7 @@ class IdentificationProblem {
     VecX coordinate_gradient;                   // d mean_square / d y (m^2), y the search coordinates
     Eigen::MatrixXd coordinate_jacobian;        // stacked over trials, when asked (m)
     VecX residuals_m;                    // stacked like the Jacobian
+    std::vector<int> residual_blocks;    // per residual: trial * 1000 + TrialFit::residual_blocks
     double seconds = 0.0;
   };
   // fresh: see TrialEvaluator::evaluate.
@@ -66,7 +67,8 @@ class IdentificationProblem {
 struct ParameterEstimate {
   MaterialParameter parameter{};
   double value = 0.0;                    // SI units (parameter_name says which)
-  double lower95 = 0.0, upper95 = 0.0;   // 95 % interval from the Fisher covariance
+  double lower95 = 0.0, upper95 = 0.0;   // 95 % interval (see estimate_uncertainty)
+  bool block_robust = false;             // the interval is the cluster-robust one (wider)
   bool determined = false;               // interval narrower than a factor kDeterminedRatio
   static constexpr double kDeterminedRatio = 2.0;  // upper95 / value and value / lower95 below it
 };
@@ -146,10 +148,19 @@ struct GradientOptions {
 
 IdentificationResult identify_gradient(IdentificationProblem& problem, const GradientOptions& options);
 
-// Gauss-Newton covariance sigma^2 (J^T J)^-1 in log space at coordinates, with sigma^2 the
-// residual variance; fills result.estimates and result.noise_sigma_m. One more evaluation (with
-// tangents), counted in result.simulations. Residuals that are not independent noise (model
-// error) make these intervals too narrow: they are the data's limit, not the model's.
-void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result);
+// 95 % intervals in log space at the result; fills result.estimates and result.noise_sigma_m.
+// One more evaluation (with tangents), counted in result.simulations. Two covariances:
+//  - Gauss-Newton (Fisher) sigma^2 (J^T J)^-1, sigma^2 the residual variance: right when the
+//    residuals are independent noise;
+//  - cluster-robust (sandwich) (J^T J)^-1 [sum_b J_b^T r_b r_b^T J_b] (J^T J)^-1 * B/(B-1), over
+//    the blocks b of residuals of one stage and one quarter of the sheet (B of them): the twin's
+//    own model error is smooth across the sheet, so its residuals come correlated in such
+//    blocks, and the Fisher intervals are then too narrow.
+// With kFisherOrBlocks each parameter's interval uses the larger of its two variances
+// (ParameterEstimate::block_robust says when that is the sandwich's); kFisher is the Fisher
+// interval alone, which the diagnosis's significance tests were measured with.
+enum class IntervalKind { kFisher, kFisherOrBlocks };
+void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result,
+                          IntervalKind kind = IntervalKind::kFisher);
 
 }  // namespace twin

@@ -238,6 +238,14 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
 
 void TrialEvaluator::score(TrialFit& fit) const {
   std::vector<double> residuals;
+  fit.residual_blocks.clear();
+  // The sheet's quarters, split at the middle of its rest bounding box.
+  Vec2 low = model_->mesh().rest_uv.front(), high = low;
+  for (const Vec2& p : model_->mesh().rest_uv) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  const Vec2 middle = 0.5 * (low + high);
   for (std::size_t s = 0; s < fit.stages.size(); ++s) {
     StageFit& stage = fit.stages[s];
     const StageObservation& observed = trial_.stages[s].observed;
@@ -251,6 +259,10 @@ void TrialEvaluator::score(TrialFit& fit) const {
     for (const Pairing& p : pairings(observed, *markers_, stage.x)) {
       const Vec3 r = p.predicted(stage.x) - p.observed;
       residuals.insert(residuals.end(), {r.x(), r.y(), r.z()});
+      Vec2 uv = Vec2::Zero();
+      for (int k = 0; k < 3; ++k) uv += p.weights(k) * model_->mesh().rest_uv[p.vertices[k]];
+      const int block = 4 * static_cast<int>(s) + (uv.x() >= middle.x() ? 1 : 0) + (uv.y() >= middle.y() ? 2 : 0);
+      fit.residual_blocks.insert(fit.residual_blocks.end(), 3, block);
     }
   }
   fit.residuals_m = Eigen::Map<const VecX>(residuals.data(), static_cast<Eigen::Index>(residuals.size()));

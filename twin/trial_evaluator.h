@@ -69,6 +69,10 @@ struct TrialFit {
   VecX coordinate_gradient;                   // dS/dy_j (m^2), y the search coordinates (material_parameters.h), with Derivatives::kGradient or kJacobian
   Eigen::MatrixXd coordinate_jacobian;        // d r / dy_j (m), residual_count x P, with kJacobian
   VecX residuals_m;                    // r (residual_count), stacked like the Jacobian's rows
+  // Per residual: its stage and the quarter of the sheet its observation lies in, stage * 4 +
+  // quarter. Model error is smooth, so residuals in one block are correlated; the blocks are
+  // the units of the cluster-robust covariance (identification.h: estimate_uncertainty).
+  std::vector<int> residual_blocks;
   bool warm_started = false;
   int stages_from_scan = 0;            // cold start: stages whose equilibrium was found from the scan
   int newton_iterations = 0;

@@ -125,6 +125,21 @@ TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[
   // The fit is down to the scanner noise (0.3 mm per axis).
   CHECK(result.noise_sigma_m < 0.6e-3);
   CHECK(result.simulations < 60);
+
+  // Block-robust intervals are never narrower than the Fisher ones, and on residuals that are
+  // noise alone (the lab's own mesh) they stay of the same size: not a blanket widening.
+  twin::IdentificationResult robust = result;
+  twin::estimate_uncertainty(problem, robust, twin::IntervalKind::kFisherOrBlocks);
+  for (int j = 0; j < 3; ++j) {
+    const twin::ParameterEstimate& fisher = result.estimates[j];
+    const twin::ParameterEstimate& blocks = robust.estimates[j];
+    INFO(twin::parameter_name(fisher.parameter) << " Fisher [" << fisher.lower95 << ", " << fisher.upper95
+                                                << "], blocks [" << blocks.lower95 << ", " << blocks.upper95 << "]");
+    CHECK(blocks.value == fisher.value);
+    CHECK(blocks.lower95 <= fisher.lower95 * (1.0 + 1e-6));  // (a second evaluation: equilibria to 1e-8)
+    CHECK(blocks.upper95 >= fisher.upper95 * (1.0 - 1e-6));
+    CHECK(std::log(blocks.upper95 / blocks.lower95) < 3.0 * std::log(fisher.upper95 / fisher.lower95));
+  }
 }
 
 TEST_CASE("at the lab's material and mesh every stage is found on the lab's branch", "[sim_hw][identification]") {

@@ -73,16 +73,21 @@ std::vector<Row> score_rows(const std::string& set, TrialEvaluator& evaluator, c
   return rows;
 }
 
+// Which covariance set the interval (identification.h: estimate_uncertainty).
+const char* robust_note(const ParameterEstimate& e) {
+  return e.block_robust ? "  (stage x quarter blocks: model error)" : "  (Fisher)";
+}
+
 void print_estimates(const IdentificationResult& r) {
   fmt::print("\n{}: {} evaluations, {} trial simulations, {:.1f} s, {} ({} = {:.6g})\n", r.method, r.evaluations,
              r.simulations, r.seconds, r.stop_reason, r.objective_name, r.objective);
   for (const ParameterEstimate& e : r.estimates) {
     if (e.determined) {
-      fmt::print("  {:<22} {:12.6g}   95 % interval [{:.6g}, {:.6g}]\n", parameter_name(e.parameter), e.value, e.lower95,
-                 e.upper95);
+      fmt::print("  {:<22} {:12.6g}   95 % interval [{:.6g}, {:.6g}]{}\n", parameter_name(e.parameter), e.value, e.lower95,
+                 e.upper95, robust_note(e));
     } else if (std::isfinite(e.upper95)) {
-      fmt::print("  {:<22} {:12.6g}   NOT DETERMINED by these trials: 95 % interval [{:.6g}, {:.6g}]\n",
-                 parameter_name(e.parameter), e.value, e.lower95, e.upper95);
+      fmt::print("  {:<22} {:12.6g}   NOT DETERMINED by these trials: 95 % interval [{:.6g}, {:.6g}]{}\n",
+                 parameter_name(e.parameter), e.value, e.lower95, e.upper95, robust_note(e));
     } else {
       fmt::print("  {:<22} {:12.6g}   NOT DETERMINED: the markers do not respond to it\n", parameter_name(e.parameter),
                  e.value);
@@ -177,7 +182,7 @@ int run_identify(const IdentifyArguments& a) {
       fmt::print("\n{}: no result ({})\n", r.method, r.stop_reason);
       continue;
     }
-    estimate_uncertainty(problem, r);
+    estimate_uncertainty(problem, r, IntervalKind::kFisherOrBlocks);
     print_estimates(r);
     std::vector<Row> rows;
     const bool last = &r == &results.back();
