@@ -13,7 +13,6 @@
 #include "sim_hw/marker_scan.h"
 #include "twin/atomic_file.h"
 #include "twin/material_point.h"
-#include "twin/mesh_refinement.h"
 #include "twin/trial_simulation.h"
 
 namespace sim_hw {
@@ -187,14 +186,10 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
 
   // The "real" sheet: the lab's material on the reference mesh, with the markers glued on (they
   // weigh something only when the truth says so) and relaxing after each move if it does.
-  std::vector<Vec2> clamp_points;
-  for (const twin::ClampSpec& c : trial.clamps) clamp_points.push_back(c.material_point_m);
-  std::vector<twin::RefinementLevel> levels;
-  for (double r : config.reference_clamp_refinement_radii_m) levels.push_back({r});
   twin::ShellModel reference(
-      twin::refine_near_points(
+      twin::refine_near_clamps(
           twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
-          clamp_points, levels),
+          trial.clamps, config.reference_clamp_refinement_radii_m),
       truth);
   const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   reference.set_marker_points(markers);

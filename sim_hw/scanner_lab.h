@@ -29,7 +29,7 @@ struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
   int reference_triangles = 6000;  // the "real" sheet's mesh; the twin should use a coarser one
-  // Then refined near the clamps, one level per radius (m; twin/mesh_refinement.h): finer where
+  // Then refined near the clamps, one level per radius (m; twin/trial.h: refine_near_clamps): finer where
   // the sheet is most curved and where the jaws' grip (1.5 cm radius) is smaller than the
   // uniform mesh's triangles. Empty: the uniform mesh, as before 2026-11-26.
   std::vector<double> reference_clamp_refinement_radii_m;

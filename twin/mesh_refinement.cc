@@ -105,10 +105,10 @@ SheetMesh refine_once(const SheetMesh& mesh, const std::vector<Vec2>& points, do
 }  // namespace
 
 SheetMesh refine_near_points(const SheetMesh& mesh, const std::vector<Vec2>& points_uv_m,
-                             const std::vector<RefinementLevel>& levels) {
+                             const std::vector<double>& radii_m) {
   SheetMesh out = mesh;
-  for (std::size_t i = 0; i < levels.size(); ++i) {
-    const double r = levels[i].radius_m;
+  for (std::size_t i = 0; i < radii_m.size(); ++i) {
+    const double r = radii_m[i];
     if (!(std::isfinite(r) && r >= 0.0)) {
       throw std::invalid_argument("mesh refinement level " + std::to_string(i + 1) +
                                   ": radius_m must be a finite length >= 0 (m), got " + std::to_string(r));

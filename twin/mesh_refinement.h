@@ -19,13 +19,10 @@
 
 namespace twin {
 
-struct RefinementLevel {
-  double radius_m = 0.0;  // triangles within this distance of a point (material coordinates)
-};
-
-// The mesh with every level applied in order. Vertices of `mesh` keep their indices; new
-// vertices follow. Throws std::invalid_argument on a negative or non-finite radius.
+// The mesh with one level per radius (m, material coordinates), applied in order. Vertices of
+// `mesh` keep their indices; new vertices follow. Throws std::invalid_argument on a negative or
+// non-finite radius.
 SheetMesh refine_near_points(const SheetMesh& mesh, const std::vector<Vec2>& points_uv_m,
-                             const std::vector<RefinementLevel>& levels);
+                             const std::vector<double>& radii_m);
 
 }  // namespace twin

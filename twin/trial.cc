@@ -404,14 +404,15 @@ SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles) {
   return make_rectangular_sheet(w, h, edge_length_for_triangle_count(w, h, target_triangles));
 }
 
+SheetMesh refine_near_clamps(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps,
+                             const std::vector<double>& radii_m) {
+  std::vector<Vec2> points;
+  for (const ClampSpec& c : clamps) points.push_back(c.material_point_m);
+  return refine_near_points(mesh, points, radii_m);
+}
+
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec) {
-  SheetMesh mesh = trial_sheet_mesh(trial, spec.triangles);
-  if (spec.clamp_refinement_radii_m.empty()) return mesh;
-  std::vector<Vec2> clamp_points;
-  for (const ClampSpec& c : trial.clamps) clamp_points.push_back(c.material_point_m);
-  std::vector<RefinementLevel> levels;
-  for (double r : spec.clamp_refinement_radii_m) levels.push_back({r});
-  return refine_near_points(mesh, clamp_points, levels);
+  return refine_near_clamps(trial_sheet_mesh(trial, spec.triangles), trial.clamps, spec.clamp_refinement_radii_m);
 }
 
 }  // namespace twin

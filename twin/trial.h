@@ -112,6 +112,10 @@ struct TwinMeshSpec {
 };
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec);
 
+// `mesh` refined once per radius (m) near every clamp's material point (mesh_refinement.h).
+SheetMesh refine_near_clamps(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps,
+                             const std::vector<double>& radii_m);
+
 // Writes trial.json and every stage's marker / cloud files into `directory` (created if
 // needed; files replaced atomically). File names are the stages' markers_file / cloud_file,
 // or "<id>.xyz" / "<id>_cloud.xyz" when empty. Raw scans are written by whoever made them.

@@ -47,8 +47,8 @@ TEST_CASE("refinement near points halves the edges there, keeps the sheet whole 
   const double w = 1.17, h = 0.975, edge = 0.06;
   const SheetMesh coarse = make_rectangular_sheet(w, h, edge);
   const std::vector<Vec2> clamps = {{0.11, 0.02}, {1.15, 0.17}, {0.6, 0.5}};
-  const SheetMesh one = refine_near_points(coarse, clamps, {{0.15}});
-  const SheetMesh two = refine_near_points(coarse, clamps, {{0.25}, {0.08}});
+  const SheetMesh one = refine_near_points(coarse, clamps, {0.15});
+  const SheetMesh two = refine_near_points(coarse, clamps, {0.25, 0.08});
 
   for (const SheetMesh* mesh : {&one, &two}) {
     REQUIRE_NOTHROW(validate_sheet_mesh(*mesh));
@@ -87,15 +87,15 @@ TEST_CASE("refinement near points halves the edges there, keeps the sheet whole 
 
 TEST_CASE("refinement with no points or zero levels returns the mesh", "[twin][mesh]") {
   const SheetMesh coarse = make_rectangular_sheet(0.5, 0.4, 0.05);
-  CHECK(refine_near_points(coarse, {}, {{0.1}}).triangle_count() == coarse.triangle_count());
+  CHECK(refine_near_points(coarse, {}, {0.1}).triangle_count() == coarse.triangle_count());
   CHECK(refine_near_points(coarse, {{0.2, 0.2}}, {}).triangle_count() == coarse.triangle_count());
 }
 
 TEST_CASE("refinement rejects a negative or non-finite radius, naming the level", "[twin][mesh]") {
   const SheetMesh coarse = make_rectangular_sheet(0.5, 0.4, 0.05);
-  CHECK_THROWS_WITH(refine_near_points(coarse, {{0.2, 0.2}}, {{0.1}, {-0.01}}),
+  CHECK_THROWS_WITH(refine_near_points(coarse, {{0.2, 0.2}}, {0.1, -0.01}),
                     Catch::Contains("level 2") && Catch::Contains("radius_m"));
-  CHECK_THROWS_AS(refine_near_points(coarse, {{0.2, 0.2}}, {{std::nan("")}}), std::invalid_argument);
+  CHECK_THROWS_AS(refine_near_points(coarse, {{0.2, 0.2}}, {std::nan("")}), std::invalid_argument);
 }
 
 }  // namespace

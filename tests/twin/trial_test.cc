@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "twin/material_point.h"
 #include "twin/mesh_io.h"
 #include "tests/support/temp_dir.h"
 
@@ -266,17 +267,9 @@ TEST_CASE("a trial's twin mesh is refined near its clamps when asked", "[twin][t
   // Every clamp's host triangle is now a quarter of a coarse one (or less).
   const double coarse_area = plain.total_rest_area() / plain.triangle_count();
   for (const ClampSpec& clamp : trial.clamps) {
-    int host = -1;
-    for (int t = 0; t < refined.triangle_count() && host < 0; ++t) {
-      const auto& tri = refined.triangles[t];
-      const Vec2 a = refined.rest_uv[tri[0]], b = refined.rest_uv[tri[1]], c = refined.rest_uv[tri[2]];
-      auto side = [&](const Vec2& p, const Vec2& q) {
-        return (q - p).x() * (clamp.material_point_m - p).y() - (q - p).y() * (clamp.material_point_m - p).x();
-      };
-      if (side(a, b) >= 0 && side(b, c) >= 0 && side(c, a) >= 0) host = t;
-    }
-    REQUIRE(host >= 0);
-    CHECK(refined.rest_area(host) < 0.3 * coarse_area);
+    const auto host = locate_material_point(refined, clamp.material_point_m);
+    REQUIRE(host);
+    CHECK(refined.rest_area(host->triangle) < 0.3 * coarse_area);
   }
 }
 
