@@ -101,28 +101,22 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
   // The pseudo-inverse by eigen-decomposition keeps the determined ones finite.
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(fisher);
   const double largest = eig.eigenvalues().cwiseAbs().maxCoeff();
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(P, P);
+  Eigen::MatrixXd inverse = Eigen::MatrixXd::Zero(P, P);  // pseudo-inverse of J^T J
   VecX unbounded = VecX::Zero(P);
   for (Eigen::Index k = 0; k < P; ++k) {
     const double lambda = eig.eigenvalues()(k);
     const VecX v = eig.eigenvectors().col(k);
     if (lambda > 1e-12 * largest && lambda > 0.0) {
-      covariance += sigma2 / lambda * v * v.transpose();
+      inverse += v * v.transpose() / lambda;
     } else {
       unbounded += v.cwiseAbs();  // directions the data do not see at all
     }
   }
+  const Eigen::MatrixXd covariance = sigma2 * inverse;
   // Cluster-robust covariance over blocks of correlated residuals (see the header).
   Eigen::MatrixXd robust = Eigen::MatrixXd::Zero(P, P);
   if (kind == IntervalKind::kFisherOrBlocks &&
       e.residual_blocks.size() == static_cast<std::size_t>(e.residuals_m.size())) {
-    Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(P, P);  // pseudo-inverse of J^T J
-    for (Eigen::Index k = 0; k < P; ++k) {
-      const double lambda = eig.eigenvalues()(k);
-      if (lambda > 1e-12 * largest && lambda > 0.0) {
-        bread += eig.eigenvectors().col(k) * eig.eigenvectors().col(k).transpose() / lambda;
-      }
-    }
     std::map<int, VecX> scores;  // per block: J_b^T r_b
     for (Eigen::Index i = 0; i < e.residuals_m.size(); ++i) {
       auto [it, fresh] = scores.try_emplace(e.residual_blocks[i], VecX::Zero(P));
@@ -132,7 +126,7 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
     if (blocks > 1.0) {
       Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(P, P);
       for (const auto& [block, score] : scores) meat += score * score.transpose();
-      robust = bread * meat * bread * (blocks / (blocks - 1.0));
+      robust = inverse * meat * inverse * (blocks / (blocks - 1.0));
     }
   }
   for (Eigen::Index j = 0; j < P; ++j) {
