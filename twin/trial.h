@@ -106,9 +106,14 @@ SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles);
 // given as a mesh file), then refined once per radius near every clamp's material point
 // (mesh_refinement.h; each level halves the edges within that distance, in m). Where a clamp
 // holds the sheet it is sharply curved, and a coarse triangle would hold more than the jaws do.
+//
+// path_triangles: the mesh on which a fresh simulation follows the clamps' path from the flat
+// sheet (trial_evaluator.h), when every stage is scanned with markers and that mesh is well
+// under the twin's (below 2/3 of its triangles); 0 follows it on the twin itself.
 struct TwinMeshSpec {
   int triangles = 1500;
   std::vector<double> clamp_refinement_radii_m;
+  int path_triangles = 300;
 };
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec);
 

@@ -72,6 +72,29 @@ TrialEvaluator::TrialEvaluator(Trial trial, const TwinMeshSpec& twin_mesh, const
   model_->set_marker_points(*markers_);  // their mass, when the material gives them one
   model_->set_clamp_grips(clamps_);       // their width, when the material widens them
   model_->set_clamp_slips(clamps_);       // their give, when the material lets them slip
+  build_path_model(twin_mesh);
+}
+
+void TrialEvaluator::build_path_model(const TwinMeshSpec& spec) {
+  if (spec.path_triangles <= 0) return;
+  SheetMesh coarse = trial_sheet_mesh(trial_, spec.path_triangles);
+  // Worth it only when it is well under the twin (a sheet given as a mesh file stays as given).
+  if (3 * coarse.triangle_count() >= 2 * model_->mesh().triangle_count()) return;
+  try {
+    auto model = std::make_unique<ShellModel>(std::move(coarse), model_->material());
+    auto clamps = std::make_unique<ClampSet>(model->mesh(), trial_.clamps);
+    auto markers = std::make_unique<MaterialPointMap>(model->mesh(), trial_.marker_uv_m);
+    auto to_twin = std::make_unique<MaterialPointMap>(model->mesh(), model_->mesh().rest_uv);
+    model->set_marker_points(*markers);
+    model->set_clamp_grips(*clamps);
+    model->set_clamp_slips(*clamps);
+    path_model_ = std::move(model);
+    path_clamps_ = std::move(clamps);
+    path_markers_ = std::move(markers);
+    path_to_twin_ = std::move(to_twin);
+  } catch (const std::invalid_argument&) {
+    // A twin vertex or clamp the coarse mesh does not cover: follow the path on the twin.
+  }
 }
 
 std::unique_ptr<ShellModel> TrialEvaluator::build_model(SheetMesh mesh, const Material& material) const {
@@ -149,7 +172,7 @@ bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material
   return true;
 }
 
-bool TrialEvaluator::simulate_cold(TrialFit& fit) {
+bool TrialEvaluator::simulate_cold(TrialFit& fit, bool coarse_path_allowed) {
   fit.stages.clear();
   // Besides the path, every marker stage is tethered to its scan and let go (scan_tether.h),
   // from two starts: the shape interpolated from the markers, and the path's own equilibrium
@@ -190,6 +213,17 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
     t.x = std::move(x);
     t.ran = true;
   };
+  // The path on the coarse mesh when every stage has a tether to choose its equilibrium
+  // (trial_evaluator.h); its equilibria are then starts, not candidates.
+  bool coarse_path = coarse_path_allowed && path_model_ != nullptr;
+  for (std::size_t s = 0; s < stage_count && coarse_path; ++s) coarse_path = tethers_scan(s);
+  const auto on_twin = [&](const VecX& coarse_x) {
+    const std::vector<Vec3> p = path_to_twin_->positions(coarse_x);
+    VecX x(3 * static_cast<Eigen::Index>(p.size()));
+    for (std::size_t i = 0; i < p.size(); ++i) x.segment<3>(3 * static_cast<Eigen::Index>(i)) = p[i];
+    return x;
+  };
+  if (coarse_path) path_model_->set_material(model_->material());
   constexpr int kLanes = 2;
   if (available_lanes(kLanes) > 1) {
     if (!second_lane_model_) second_lane_model_ = build_model(model_->mesh(), model_->material());
@@ -203,16 +237,20 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
   }
   TrialSimulation simulated;
   run_lanes(kLanes, jobs, [&] {
-    simulated = simulate_stages(*model_, clamps_, trial_.stages, {}, [&](std::size_t s, const VecX& x) {
-      if (tethers_scan(s)) jobs.push([&tether, s, x](int lane) { tether(lane, s, kFromPath, x); });
-    });
+    const StageReached reached = [&](std::size_t s, const VecX& x) {
+      if (!tethers_scan(s)) return;
+      jobs.push([&tether, s, x = coarse_path ? on_twin(x) : x](int lane) { tether(lane, s, kFromPath, x); });
+    };
+    simulated = coarse_path ? simulate_stages(*path_model_, *path_clamps_, trial_.stages, {}, reached)
+                            : simulate_stages(*model_, clamps_, trial_.stages, {}, reached);
   });
 
   for (const StageSimulation& s : simulated.stages) fit.newton_iterations += s.report.newton_iterations;
   for (std::size_t s = 0; s < stage_count; ++s) {
     StageFit stage;
     stage.id = trial_.stages[s].id;
-    if (s < simulated.stages.size()) stage.x = simulated.stages[s].x;  // empty if that stage failed
+    // The path's own equilibrium is a candidate when it is the twin's (empty if it failed).
+    if (!coarse_path && s < simulated.stages.size()) stage.x = simulated.stages[s].x;
     const StageObservation& observed = trial_.stages[s].observed;
     const auto misfit = [&](const VecX& x) {
       return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
@@ -227,6 +265,12 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit) {
       }
     }
     fit.stages_from_scan += from_scan_kept;
+    if (stage.x.size() == 0 && coarse_path) {
+      // Neither tether found an equilibrium: follow the path on the twin itself, as before
+      // (the Newton iterations spent so far stay counted).
+      fit.stages_from_scan = 0;
+      return simulate_cold(fit, false);
+    }
     if (stage.x.size() == 0) {
       fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;
       return false;

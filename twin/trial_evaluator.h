@@ -19,7 +19,17 @@
 // model: the path on one, the scan starts on the other as soon as they can start. A slack
 // hanging sheet has many equilibria and the path from flat picks among them by tiny
 // differences (mesh, material: a 30 % stiffer bending can fold a corner the other way), so
-// the scan is what says which one the real sheet was in. Later evaluations start every stage from the equilibrium
+// the scan is what says which one the real sheet was in.
+//   When every stage is a marker stage, the path is followed on a coarse mesh of the sheet
+// (TwinMeshSpec::path_triangles) and its equilibria, interpolated onto the twin, are only the
+// starts of the second tether: on the twin's own mesh the path cost most of a fresh simulation
+// (12.5 of 13.2 s on the benchmark trial at 2027 triangles, 58 s at 5012) and its equilibria
+// were never the ones kept (12-57 mm from the scans against 1-10 mm tethered). Measured at the
+// lab's true material on four lab trials (2027-triangle twin, mean over stages of the kept
+// equilibria's marker error): 5.45, 2.21, 1.56, 3.77 mm with the path on the twin; 5.49, 2.17,
+// 1.54, 3.79 mm with it on 300 triangles, whose path took 0.6-0.9 s. If a stage then has no
+// equilibrium, or a stage is seen only as a cloud (no tether), the path runs on the twin as before.
+// Later evaluations start every stage from the equilibrium
 // of the nearest material evaluated before and carry it to the new material in steps of at
 // most a factor kMaterialStepRatio in every varied parameter (continuation in the material
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
@@ -102,6 +112,11 @@ class TrialEvaluator {
 
   const Trial& trial() const { return trial_; }
   const ShellModel& model() const { return *model_; }
+  // Triangles of the mesh the clamps' path is followed on in a fresh simulation of a trial
+  // scanned with markers (the twin's own when no coarser one is used).
+  int path_mesh_triangles() const {
+    return path_model_ ? path_model_->mesh().triangle_count() : model_->mesh().triangle_count();
+  }
 
   // Simulates every stage with `material` and scores it. The surface density is the trial's
   // (given, or mass / area) unless it is one of the varied parameters. `parameters` are the varied ones
@@ -126,7 +141,7 @@ class TrialEvaluator {
   const CachedEquilibria* nearest_cached(const VecX& coordinates) const;
   bool simulate_warm(const CachedEquilibria& start, const Material& target,
                      const std::vector<MaterialParameter>& parameters, TrialFit& fit);
-  bool simulate_cold(TrialFit& fit);
+  bool simulate_cold(TrialFit& fit, bool coarse_path_allowed = true);
   void score(TrialFit& fit) const;
   void differentiate(TrialFit& fit, const std::vector<MaterialParameter>& parameters,
                      Derivatives derivatives);
@@ -134,10 +149,17 @@ class TrialEvaluator {
   std::unique_ptr<ShellModel> build_model(SheetMesh mesh, const Material& material) const;
   // The model lane `lane` of a fresh simulation solves on (lane 0: model_), with model_'s material.
   ShellModel& lane_model(int lane);
+  // The coarse path's model and its map onto the twin's vertices; null when the path runs on
+  // the twin itself.
+  void build_path_model(const TwinMeshSpec& spec);
 
   Trial trial_;
   std::unique_ptr<ShellModel> model_;
   std::unique_ptr<ShellModel> second_lane_model_;  // built at the first fresh simulation on two lanes
+  std::unique_ptr<ShellModel> path_model_;          // coarse mesh the clamps' path is followed on
+  std::unique_ptr<ClampSet> path_clamps_;
+  std::unique_ptr<MaterialPointMap> path_markers_;
+  std::unique_ptr<MaterialPointMap> path_to_twin_;  // the twin's vertices on the coarse mesh
   ClampSet clamps_;
   std::unique_ptr<MaterialPointMap> markers_;
   SheetPlacement placement_;

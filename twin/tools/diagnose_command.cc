@@ -24,6 +24,10 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
   cmd->add_option("--clamp-refinement", a.clamp_refinement,
                   "comma-separated radii (m): each halves the twin's edges within that distance of every "
                   "clamp, in turn; none: no refinement (default none)");
+  cmd->add_option("--path-triangles", o.path_triangles,
+                  "triangles of the coarse mesh a fresh simulation follows the clamps' path on when every "
+                  "stage has markers and the twin is finer; 0: on the twin itself (default 300)")
+      ->check(CLI::Range(0, 200000));
   cmd->add_option("--noise-mm", o.noise_mm, "measurement noise per coordinate, mm (default: estimated)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--effects", o.effects, "comma-separated candidate effects (default: all)");

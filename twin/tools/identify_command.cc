@@ -117,6 +117,10 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
   cmd->add_option("--clamp-refinement", a.clamp_refinement,
                   "comma-separated radii (m): each halves the twin's edges within that distance of every "
                   "clamp, in turn; none: no refinement (default 0.1)");
+  cmd->add_option("--path-triangles", a.path_triangles,
+                  "triangles of the coarse mesh a fresh simulation follows the clamps' path on when every "
+                  "stage has markers; 0: on the twin itself (default 300)")
+      ->check(CLI::Range(0, 200000));
   cmd->add_option("--seed", a.seed, "ISRES random seed");
   cmd->add_option("--max-evaluations", a.max_evaluations, "optimiser evaluation budget (0: default)")
       ->check(CLI::NonNegativeNumber);
@@ -126,7 +130,7 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
 
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
-  const TwinMeshSpec mesh{a.triangles, parse_clamp_refinement(a.clamp_refinement)};
+  const TwinMeshSpec mesh{a.triangles, parse_clamp_refinement(a.clamp_refinement), a.path_triangles};
   std::vector<Trial> train_trials, test_trials;
   for (const std::string& d : a.train) train_trials.push_back(read_trial(d));
   for (const std::string& d : a.test) test_trials.push_back(read_trial(d));
@@ -138,12 +142,16 @@ int run_identify(const IdentifyArguments& a) {
   std::vector<TrialEvaluator*> training;
   for (auto& t : train) training.push_back(t.get());
 
-  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}\n",
-             a.parameters, train.front()->trial().material_name, train.size(), test.size(),
-             train.front()->model().mesh().triangle_count(), train.front()->model().vertex_count(),
+  const TrialEvaluator& first = *train.front();
+  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}{}\n",
+             a.parameters, first.trial().material_name, train.size(), test.size(),
+             first.model().mesh().triangle_count(), first.model().vertex_count(),
              mesh.clamp_refinement_radii_m.empty()
                  ? std::string()
-                 : fmt::format(" (refined near the clamps within {} m)", fmt::join(mesh.clamp_refinement_radii_m, ", ")));
+                 : fmt::format(" (refined near the clamps within {} m)", fmt::join(mesh.clamp_refinement_radii_m, ", ")),
+             first.path_mesh_triangles() == first.model().mesh().triangle_count()
+                 ? std::string()
+                 : fmt::format("; clamp path followed on {} triangles", first.path_mesh_triangles()));
   IdentificationProblem problem(training, base, parameters);
   int count = 0;
   if (!a.quiet) {

@@ -6,6 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "twin/trial.h"
+
 namespace twin_cli {
 
 struct IdentifyArguments {
@@ -20,6 +22,9 @@ struct IdentifyArguments {
   // --clamp-refinement: radii (m), one refinement level each, near every clamp (trial.h:
   // TwinMeshSpec); "none" for the unrefined mesh.
   std::string clamp_refinement = "0.1";
+  // --path-triangles: the coarse mesh a fresh simulation follows the clamps' path on (trial.h:
+  // TwinMeshSpec::path_triangles); 0 follows it on the twin.
+  int path_triangles = twin::TwinMeshSpec{}.path_triangles;
   unsigned seed = 1;
   int max_evaluations = 0;         // 0: the method's default
   bool quiet = false;
