@@ -22,9 +22,10 @@
 // the scan is what says which one the real sheet was in.
 //   When every stage is a marker stage, the path is followed on a coarse mesh of the sheet
 // (TwinMeshSpec::path_triangles) and its equilibria, interpolated onto the twin, are only the
-// starts of the second tether: on the twin's own mesh the path cost most of a fresh simulation
-// (12.5 of 13.2 s on the benchmark trial at 2027 triangles, 58 s at 5012) and its equilibria
-// were never the ones kept (12-57 mm from the scans against 1-10 mm tethered). Measured at the
+// starts of the second tether: on the twin's own mesh the path was the longest part of a fresh
+// simulation (12.5 s on one thread for a lab trial at 2027 triangles, where a whole fresh
+// simulation on two lanes took 13.2 s; 58 s at 5012) and its equilibria were never the ones
+// kept (12-57 mm from the scans against 1-10 mm tethered). Measured at the
 // lab's true material on four lab trials (2027-triangle twin, mean over stages of the kept
 // equilibria's marker error): 5.45, 2.21, 1.56, 3.77 mm with the path on the twin; 5.49, 2.17,
 // 1.54, 3.79 mm with it on 300 triangles, whose path took 0.6-0.9 s. If a stage then has no
