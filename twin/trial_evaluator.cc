@@ -174,6 +174,8 @@ bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material
 
 bool TrialEvaluator::simulate_cold(TrialFit& fit, bool coarse_path_allowed) {
   fit.stages.clear();
+  // (With the path on a coarse mesh, trial_evaluator.h, its equilibria only start the second
+  // tether below and are not candidates themselves.)
   // Besides the path, every marker stage is tethered to its scan and let go (scan_tether.h),
   // from two starts: the shape interpolated from the markers, and the path's own equilibrium
   // pinned to the scan and let go slowly. Both end at equilibria of the same material in the

@@ -24,15 +24,18 @@ using twin::VecX;
 
 constexpr int kTriangles = 300;
 
+// A composite trial of the lab's protocol on a reference of `triangles` (no raw scans).
+sim_hw::LabTrial composite_lab(unsigned seed, int triangles) {
+  sim_hw::ScannerLabConfig config;
+  config.specimen = "composite";
+  config.seed = seed;
+  config.reference_triangles = triangles;
+  config.raw_scans = false;
+  return sim_hw::make_lab_trial(config);
+}
+
 const sim_hw::LabTrial& lab_trial() {
-  static const sim_hw::LabTrial lab = [] {
-    sim_hw::ScannerLabConfig config;
-    config.specimen = "composite";
-    config.seed = 5;
-    config.reference_triangles = kTriangles;
-    config.raw_scans = false;
-    return sim_hw::make_lab_trial(config);
-  }();
+  static const sim_hw::LabTrial lab = composite_lab(5, kTriangles);
   return lab;
 }
 
@@ -155,13 +158,9 @@ TEST_CASE("at the lab's material and mesh every stage is found on the lab's bran
   // the lab's path, and its equilibria are candidates. (By default the path is followed on a
   // coarse mesh and only starts the tethers: 3.1 and 2.0 mm mean, 16 and 12 mm max, in stages 2
   // and 3 of this trial; see the next test and trial_evaluator.h.)
-  sim_hw::ScannerLabConfig config;
-  config.specimen = "composite";
-  config.seed = 4;
-  config.reference_triangles = 1500;
-  config.raw_scans = false;
-  const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
-  twin::TrialEvaluator evaluator(lab.trial, twin::TwinMeshSpec{config.reference_triangles, {}, 0}, lab.truth);
+  constexpr int kLabTriangles = 1500;
+  const sim_hw::LabTrial lab = composite_lab(4, kLabTriangles);
+  twin::TrialEvaluator evaluator(lab.trial, twin::TwinMeshSpec{kLabTriangles, {}, 0}, lab.truth);
   REQUIRE(evaluator.path_mesh_triangles() == evaluator.model().mesh().triangle_count());
   const twin::TrialFit fit = evaluator.evaluate(lab.truth, kPaperParameters);
   REQUIRE(fit.usable());
@@ -183,14 +182,10 @@ TEST_CASE("a fresh simulation follows the path on a coarse mesh and keeps the tw
   // from the coarse path's equilibrium. Every stage must be an equilibrium of the twin itself
   // and, at the lab's material on its own mesh, near the scan; the path followed on the twin
   // gives the comparison.
-  sim_hw::ScannerLabConfig config;
-  config.specimen = "composite";
-  config.seed = 4;
-  config.reference_triangles = 600;
-  config.raw_scans = false;
-  const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
-  twin::TrialEvaluator coarse(lab.trial, twin::TwinMeshSpec{config.reference_triangles, {}, 300}, lab.truth);
-  twin::TrialEvaluator own(lab.trial, twin::TwinMeshSpec{config.reference_triangles, {}, 0}, lab.truth);
+  constexpr int kLabTriangles = 600;
+  const sim_hw::LabTrial lab = composite_lab(4, kLabTriangles);
+  twin::TrialEvaluator coarse(lab.trial, twin::TwinMeshSpec{kLabTriangles, {}, 300}, lab.truth);
+  twin::TrialEvaluator own(lab.trial, twin::TwinMeshSpec{kLabTriangles, {}, 0}, lab.truth);
   REQUIRE(coarse.path_mesh_triangles() < 2 * coarse.model().mesh().triangle_count() / 3);
   REQUIRE(own.path_mesh_triangles() == own.model().mesh().triangle_count());
   const twin::TrialFit fit = coarse.evaluate(lab.truth, kPaperParameters);
