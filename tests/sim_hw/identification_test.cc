@@ -284,19 +284,18 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
       CHECK(std::filesystem::exists((dir / "res") / set / "trial" / (stage.id + "_residuals.ply")));
     }
   }
-  // A parameter name that does not exist: exit 1, the message names it.
-  const std::string bad = std::string(TWIN_EXE) + " identify --train " + trial_dir + " --out " + out +
-                          " --parameters stiffness > " + log + " 2>&1";
-  CHECK(WEXITSTATUS(std::system(bad.c_str())) == 1);
-  std::ifstream again(log);
-  const std::string message((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
-  CHECK(message.find("stiffness") != std::string::npos);
-  // A refinement radius that is not a positive length: exit 1, the option and the value named.
-  const std::string bad_radius = std::string(TWIN_EXE) + " identify --train " + trial_dir + " --out " + out +
-                                 " --clamp-refinement 0.1,-2 > " + log + " 2>&1";
-  CHECK(WEXITSTATUS(std::system(bad_radius.c_str())) == 1);
-  std::ifstream third(log);
-  const std::string radius_message((std::istreambuf_iterator<char>(third)), std::istreambuf_iterator<char>());
+  // Bad options: exit 1 and a message; returns the message.
+  const auto rejected = [&](const std::string& options) {
+    const std::string command = std::string(TWIN_EXE) + " identify --train " + trial_dir + " --out " + out + " " +
+                                options + " > " + log + " 2>&1";
+    CHECK(WEXITSTATUS(std::system(command.c_str())) == 1);
+    std::ifstream in(log);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  // A parameter name that does not exist: the message names it.
+  CHECK(rejected("--parameters stiffness").find("stiffness") != std::string::npos);
+  // A refinement radius that is not a positive length: the option and the value named.
+  const std::string radius_message = rejected("--clamp-refinement 0.1,-2");
   CHECK(radius_message.find("--clamp-refinement") != std::string::npos);
   CHECK(radius_message.find("'-2'") != std::string::npos);
 }
