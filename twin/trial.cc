@@ -14,6 +14,7 @@
 #include "twin/json_field.h"
 #include "twin/mesh_io.h"
 #include "twin/mesh_io_internal.h"
+#include "twin/material_point.h"
 #include "twin/mesh_refinement.h"
 #include "twin/trial_internal.h"
 
@@ -411,8 +412,55 @@ SheetMesh refine_near_clamps(const SheetMesh& mesh, const std::vector<ClampSpec>
   return refine_near_points(mesh, points, radii_m);
 }
 
+std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpec& clamp) {
+  // Edges of at most 0.4 r: the disk then holds some 20-30 vertices.
+  constexpr double kEdgesPerGripRadius = 2.5;
+  constexpr int kMaxLevels = 8;  // a 256-fold finer edge: far beyond any real jaw
+  if (!(std::isfinite(clamp.grip_radius_m) && clamp.grip_radius_m > 0.0)) return {};
+  const auto host = locate_material_point(mesh, clamp.material_point_m);
+  if (!host) {
+    throw std::invalid_argument(fmt::format("clamp '{}': material point ({}, {}) m is not on the sheet", clamp.id,
+                                            clamp.material_point_m.x(), clamp.material_point_m.y()));
+  }
+  double edge_m = 0.0;  // the host triangle's mean edge: the mesh's size at the clamp
+  for (int k = 0; k < 3; ++k) {
+    edge_m += (mesh.rest_uv[host->vertices[k]] - mesh.rest_uv[host->vertices[(k + 1) % 3]]).norm() / 3.0;
+  }
+  int levels = 0;
+  for (double e = edge_m; e > clamp.grip_radius_m / kEdgesPerGripRadius && levels < kMaxLevels; e /= 2.0) ++levels;
+  std::vector<double> radii_m(static_cast<std::size_t>(levels));
+  for (int k = 0; k < levels; ++k) radii_m[static_cast<std::size_t>(k)] = std::ldexp(clamp.grip_radius_m, levels - 1 - k);
+  return radii_m;
+}
+
+SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps) {
+  std::vector<std::vector<double>> radii_m;
+  std::size_t levels = 0;
+  for (const ClampSpec& c : clamps) {
+    radii_m.push_back(jaw_refinement_radii_m(mesh, c));
+    levels = std::max(levels, radii_m.back().size());
+  }
+  // Level by level, each clamp's finest level last (clamps needing fewer levels start later).
+  SheetMesh refined = mesh;
+  for (std::size_t level = 0; level < levels; ++level) {
+    for (std::size_t c = 0; c < clamps.size(); ++c) {
+      const std::size_t first = levels - radii_m[c].size();
+      if (level < first) continue;
+      refined = refine_near_points(refined, {clamps[c].material_point_m}, {radii_m[c][level - first]});
+    }
+  }
+  return refined;
+}
+
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec) {
-  return refine_near_clamps(trial_sheet_mesh(trial, spec.triangles), trial.clamps, spec.clamp_refinement_radii_m);
+  const SheetMesh base = trial_sheet_mesh(trial, spec.triangles);
+  if (spec.resolve_jaws) {
+    if (!spec.clamp_refinement_radii_m.empty()) {
+      throw std::invalid_argument("twin mesh: give clamp refinement radii or resolve the jaws, not both");
+    }
+    return refine_to_resolve_jaws(base, trial.clamps);
+  }
+  return refine_near_clamps(base, trial.clamps, spec.clamp_refinement_radii_m);
 }
 
 }  // namespace twin

@@ -60,7 +60,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   const Trial first = read_trial(o.train.front());
   Material start = start_material(o, first);
   start.validate();
-  const TwinMeshSpec mesh{o.triangles, o.clamp_refinement_radii_m, o.path_triangles};
+  const TwinMeshSpec mesh{o.triangles, o.clamp_refinement_radii_m, o.path_triangles, o.resolve_jaws};
   auto train_owned = load(o.train, mesh, start);
   auto test_owned = load(o.test, mesh, start);
   const std::vector<TrialEvaluator*> train = pointers(train_owned), test = pointers(test_owned);

@@ -30,6 +30,7 @@ struct DiagnoseOptions {
   // Refinement near the clamps (trial.h: TwinMeshSpec). None by default: the blind-set figures
   // were measured on uniform meshes.
   std::vector<double> clamp_refinement_radii_m;
+  bool resolve_jaws = false;  // TwinMeshSpec::resolve_jaws (then no radii)
   int path_triangles = TwinMeshSpec{}.path_triangles;  // TwinMeshSpec::path_triangles
   double noise_mm = 0.0;                 // per-coordinate sigma (mm); 0: estimate it
   std::string effects;                   // comma-separated candidate names; "" = all

@@ -8,9 +8,10 @@
 
 namespace twin_cli {
 
-std::vector<double> parse_clamp_refinement(const std::string& value) {
+ClampRefinement parse_clamp_refinement(const std::string& value) {
+  if (value == "none") return {};
+  if (value == "jaws") return {{}, true};
   std::vector<double> radii;
-  if (value == "none") return radii;
   std::stringstream in(value);
   std::string item;
   while (std::getline(in, item, ',')) {
@@ -23,12 +24,12 @@ std::vector<double> parse_clamp_refinement(const std::string& value) {
     }
     if (used == 0 || used != item.size() || !std::isfinite(r) || r <= 0.0) {
       throw std::invalid_argument(fmt::format(
-          "--clamp-refinement: expected 'none' or comma-separated radii > 0 (m), got '{}'", item));
+          "--clamp-refinement: expected 'jaws', 'none' or comma-separated radii > 0 (m), got '{}'", item));
     }
     radii.push_back(r);
   }
-  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'none' or radii > 0 (m), got nothing");
-  return radii;
+  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'jaws', 'none' or radii > 0 (m), got nothing");
+  return {radii, false};
 }
 
 }  // namespace twin_cli

@@ -22,8 +22,9 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--triangles", o.triangles, "triangles of the twin's sheet mesh (default 300)")->check(CLI::Range(50, 200000));
   cmd->add_option("--clamp-refinement", a.clamp_refinement,
-                  "comma-separated radii (m): each halves the twin's edges within that distance of every "
-                  "clamp, in turn; none: no refinement (default none)");
+                  "none: no refinement (default); jaws: halve the twin's edges near each clamp until they are at most "
+                  "0.4 of its grip radius; or comma-separated radii (m): each halves the edges within that "
+                  "distance of every clamp, in turn");
   cmd->add_option("--path-triangles", o.path_triangles,
                   "triangles of the coarse mesh a fresh simulation follows the clamps' path on when every "
                   "stage has markers and the twin is finer; 0: on the twin itself (default 300)")
@@ -41,7 +42,9 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
 
 int run_diagnose(DiagnoseArguments& a) {
   if (!a.optimizer.empty()) a.options.optimizer = twin::optimizer_from_name(a.optimizer);
-  a.options.clamp_refinement_radii_m = parse_clamp_refinement(a.clamp_refinement);
+  const ClampRefinement refinement = parse_clamp_refinement(a.clamp_refinement);
+  a.options.clamp_refinement_radii_m = refinement.radii_m;
+  a.options.resolve_jaws = refinement.resolve_jaws;
   if (!a.quiet) {
     a.options.progress = [](const std::string& line) {
       fmt::print("{}\n", line);

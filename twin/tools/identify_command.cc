@@ -115,8 +115,9 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
   cmd->add_option("--residuals", a.residuals, "directory for per-marker residual files (CSV, PLY)");
   cmd->add_option("--triangles", a.triangles, "triangles of the twin's sheet mesh")->check(CLI::Range(50, 200000));
   cmd->add_option("--clamp-refinement", a.clamp_refinement,
-                  "comma-separated radii (m): each halves the twin's edges within that distance of every "
-                  "clamp, in turn; none: no refinement (default 0.1)");
+                  "jaws: halve the twin's edges near each clamp until they are at most 0.4 of its grip radius "
+                  "(default); or comma-separated radii (m): each halves the edges within that distance of every "
+                  "clamp, in turn; none: no refinement");
   cmd->add_option("--path-triangles", a.path_triangles,
                   "triangles of the coarse mesh a fresh simulation follows the clamps' path on when every "
                   "stage has markers; 0: on the twin itself (default 300)")
@@ -130,7 +131,8 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
 
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
-  const TwinMeshSpec mesh{a.triangles, parse_clamp_refinement(a.clamp_refinement), a.path_triangles};
+  const ClampRefinement refinement = parse_clamp_refinement(a.clamp_refinement);
+  const TwinMeshSpec mesh{a.triangles, refinement.radii_m, a.path_triangles, refinement.resolve_jaws};
   std::vector<Trial> train_trials, test_trials;
   for (const std::string& d : a.train) train_trials.push_back(read_trial(d));
   for (const std::string& d : a.test) test_trials.push_back(read_trial(d));
@@ -146,7 +148,8 @@ int run_identify(const IdentifyArguments& a) {
   fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}{}\n",
              a.parameters, first.trial().material_name, train.size(), test.size(),
              first.model().mesh().triangle_count(), first.model().vertex_count(),
-             mesh.clamp_refinement_radii_m.empty()
+             mesh.resolve_jaws ? std::string(" (refined near the clamps until their jaws are resolved)")
+             : mesh.clamp_refinement_radii_m.empty()
                  ? std::string()
                  : fmt::format(" (refined near the clamps within {} m)", fmt::join(mesh.clamp_refinement_radii_m, ", ")),
              first.path_mesh_triangles() == first.model().mesh().triangle_count()

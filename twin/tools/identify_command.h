@@ -19,9 +19,9 @@ struct IdentifyArguments {
   std::string start;               // optional material file: start values and fixed properties
   std::string residuals;           // optional directory for per-marker residual files
   int triangles = 1500;
-  // --clamp-refinement: radii (m), one refinement level each, near every clamp (trial.h:
-  // TwinMeshSpec); "none" for the unrefined mesh.
-  std::string clamp_refinement = "0.1";
+  // --clamp-refinement (clamp_refinement_option.h): "jaws" refines near each clamp until its
+  // jaws are resolved; radii (m), one refinement level each, near every clamp; "none".
+  std::string clamp_refinement = "jaws";
   // --path-triangles: the coarse mesh a fresh simulation follows the clamps' path on (trial.h:
   // TwinMeshSpec::path_triangles); 0 follows it on the twin.
   int path_triangles = twin::TwinMeshSpec{}.path_triangles;
