@@ -24,6 +24,7 @@ ScannerLabConfig lab_config(const BlindSetConfig& config, const HiddenEffect& hi
   lab.specimen = config.specimen;
   lab.seed = lab_seed;
   lab.reference_triangles = config.triangles;
+  lab.reference_resolves_jaws = false;  // the reference is the twin's own mesh (blind_trial_set.h)
   lab.raw_scans = config.raw_scans;
   lab.material_override = hidden.truth;
   if (!hidden.creases.empty()) {

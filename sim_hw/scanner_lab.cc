@@ -155,6 +155,18 @@ LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng) 
   return protocol;
 }
 
+twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
+                                   const std::vector<twin::ClampSpec>& clamps) {
+  if (config.reference_resolves_jaws && !config.reference_clamp_refinement_radii_m.empty()) {
+    throw std::invalid_argument("scanner lab: give reference clamp refinement radii or resolve the jaws, not both");
+  }
+  const twin::SheetMesh uniform = twin::make_rectangular_sheet(
+      width_m, height_m, twin::edge_length_for_triangle_count(width_m, height_m, config.reference_triangles));
+  return config.reference_resolves_jaws
+             ? twin::refine_to_resolve_jaws(uniform, clamps)
+             : twin::refine_near_clamps(uniform, clamps, config.reference_clamp_refinement_radii_m);
+}
+
 LabTrial make_lab_trial(const ScannerLabConfig& config) {
   LabTrial lab;
   lab.specimen = lab_specimen(config.specimen);
@@ -186,11 +198,8 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
 
   // The "real" sheet: the lab's material on the reference mesh, with the markers glued on (they
   // weigh something only when the truth says so) and relaxing after each move if it does.
-  twin::ShellModel reference(
-      twin::refine_near_clamps(
-          twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, config.reference_triangles)),
-          trial.clamps, config.reference_clamp_refinement_radii_m),
-      truth);
+  twin::ShellModel reference(lab_reference_mesh(config, w, h, trial.clamps), truth);
+  lab.reference_mesh_triangles = reference.mesh().triangle_count();
   const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
   reference.set_marker_points(markers);
   if (config.adjust_reference) config.adjust_reference(reference);
@@ -282,6 +291,8 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
   j["seed"] = config.seed;
   j["reference_triangles"] = config.reference_triangles;
   j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
+  j["reference_resolves_jaws"] = config.reference_resolves_jaws;
+  j["reference_mesh_triangles"] = lab.reference_mesh_triangles;
   j["marker_noise_m"] = config.marker_noise_m;
   j["probe_noise_m"] = config.probe_noise_m;
   j["scan_noise_m"] = config.scan_noise_m;

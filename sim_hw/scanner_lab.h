@@ -29,9 +29,14 @@ struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
   int reference_triangles = 6000;  // the "real" sheet's mesh; the twin should use a coarser one
-  // Then refined near the clamps, one level per radius (m; twin/trial.h: refine_near_clamps): finer where
-  // the sheet is most curved and where the jaws' grip (1.5 cm radius) is smaller than the
-  // uniform mesh's triangles. Empty: the uniform mesh, as before 2026-11-26.
+  // Then refined near the clamps until the jaws are resolved (twin/trial.h:
+  // jaw_refinement_radii_m; on 6000 triangles 0.03 and 0.015 m, 6760 triangles), since
+  // 2026-11-26: the uniform mesh's 2 cm triangles are larger than the jaws (1.5 cm grip radius),
+  // so each clamp held one triangle or a few vertices, whichever the mesh put there, and the
+  // hanging shape near the clamps, the "truth", changed with the mesh. Or, when radii are given
+  // (and reference_resolves_jaws is false), one level per radius (m; refine_near_clamps).
+  // Neither: the uniform mesh, as before.
+  bool reference_resolves_jaws = true;
   std::vector<double> reference_clamp_refinement_radii_m;
   int marker_rows = 17, marker_cols = 17;
   double marker_noise_m = 0.3e-3;  // per marker after extraction, each axis (1 sigma)
@@ -56,6 +61,7 @@ struct LabTrial {
   twin::Material truth;  // what the reference sheet was simulated with
   std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
   std::vector<twin::ClampPose> true_stage1_poses;
+  int reference_mesh_triangles = 0;  // the reference sheet's mesh, refinement included
 };
 
 // How far apart (m) a clamp move may pull two engaged clamps whose material points are
@@ -70,6 +76,11 @@ struct LabProtocol {
   std::vector<std::vector<twin::ClampPose>> stages;
 };
 LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng);
+
+// The reference sheet's rest mesh for these clamps (ScannerLabConfig::reference_triangles and
+// its refinement). Throws std::invalid_argument when both jaws and radii are asked for.
+twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
+                                   const std::vector<twin::ClampSpec>& clamps);
 
 // Throws std::runtime_error if the reference simulation fails (naming the stage).
 LabTrial make_lab_trial(const ScannerLabConfig& config);

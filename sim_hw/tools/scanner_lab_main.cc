@@ -15,6 +15,7 @@
 
 #include "sim_hw/blind_trial_set.h"
 #include "sim_hw/scanner_lab.h"
+#include "twin/clamp_refinement_option.h"
 #include "twin/material.h"
 
 namespace {
@@ -41,10 +42,11 @@ int main(int argc, char** argv) {
   app.add_option("--truth", truth, "directory for the truth (default: OUT.truth)");
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
   app.add_option("--reference-triangles", config.reference_triangles, "triangles of the reference sheet");
-  app.add_option("--reference-clamp-refinement", config.reference_clamp_refinement_radii_m,
-                 "radii (m), comma-separated: each halves the reference's edges within that distance of every clamp")
-      ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+  std::string reference_refinement = "jaws";
+  app.add_option("--reference-clamp-refinement", reference_refinement,
+                 "jaws: halve the reference's edges near each clamp until they are at most 0.4 of its grip radius "
+                 "(default); or comma-separated radii (m): each halves the edges within that distance of every "
+                 "clamp, in turn; none: the uniform mesh");
   app.add_option("--marker-noise-m", config.marker_noise_m, "marker position noise, 1 sigma per axis (m)");
   app.add_flag("!--no-scans", config.raw_scans, "do not write raw scan points");
 
@@ -68,14 +70,20 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "--out is required\nRun with --help for more information.\n");
       return 106;  // CLI11's exit code for a missing required option, as before
     }
+    const twin::ClampRefinement refinement =
+        twin::parse_clamp_refinement(reference_refinement, "--reference-clamp-refinement");
+    config.reference_resolves_jaws = refinement.resolve_jaws;
+    config.reference_clamp_refinement_radii_m = refinement.radii_m;
     if (!material_file.empty()) config.material_override = twin::read_material_file(material_file);
     const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
     if (truth.empty()) truth = out + ".truth";
     sim_hw::write_lab_trial(lab, config, out, truth);
     int hidden = 0;
     for (const auto& stage : lab.trial.stages) hidden += static_cast<int>(stage.observed.markers_m.size()) - stage.observed.seen_marker_count();
-    fmt::print("scanner lab: {} seed {}: {} stages, {} markers, {} hidden under clamps in all -> {} (truth in {})\n",
-               config.specimen, config.seed, lab.trial.stages.size(), lab.trial.marker_uv_m.size(), hidden, out, truth);
+    fmt::print("scanner lab: {} seed {}: {} stages, {} markers, {} hidden under clamps in all, reference sheet {} "
+               "triangles -> {} (truth in {})\n",
+               config.specimen, config.seed, lab.trial.stages.size(), lab.trial.marker_uv_m.size(), hidden,
+               lab.reference_mesh_triangles, out, truth);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scanner_lab: %s\n", e.what());

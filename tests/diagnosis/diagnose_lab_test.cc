@@ -27,6 +27,7 @@ void write_trials(const testing_support::TempDir& dir, const std::optional<twin:
     config.specimen = "composite";
     config.seed = seed;
     config.reference_triangles = kTriangles;
+    config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
     config.raw_scans = false;
     config.material_override = truth;
     const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);

@@ -25,6 +25,7 @@ const sim_hw::LabTrial& lab_trial() {
     config.specimen = "composite";
     config.seed = 11;
     config.reference_triangles = kTriangles;
+    config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
     config.raw_scans = false;
     return sim_hw::make_lab_trial(config);
   }();

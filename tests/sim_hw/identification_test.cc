@@ -30,6 +30,7 @@ sim_hw::LabTrial composite_lab(unsigned seed, int triangles) {
   config.specimen = "composite";
   config.seed = seed;
   config.reference_triangles = triangles;
+  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.raw_scans = false;
   return sim_hw::make_lab_trial(config);
 }
@@ -253,6 +254,7 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
   const std::string trial_dir = (dir / "trial").string();
   sim_hw::ScannerLabConfig config;
   config.reference_triangles = kTriangles;
+  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.seed = 5;
   config.raw_scans = false;
   sim_hw::write_lab_trial(lab_trial(), config, trial_dir, (dir / "truth").string());

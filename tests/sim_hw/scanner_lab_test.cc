@@ -1,9 +1,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
 
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
+#include "twin/trial.h"
 
 namespace sim_hw {
 namespace {
@@ -15,6 +17,7 @@ ScannerLabConfig small_lab(std::uint64_t seed) {
   config.specimen = "composite";
   config.seed = seed;
   config.reference_triangles = 300;  // coarse, for test speed; trials for identification use more
+  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.scan_points_per_marker = 40;
   return config;
 }
@@ -114,6 +117,35 @@ TEST_CASE("the scanner lab is reproducible from its seed", "[sim_hw][lab]") {
   CHECK(a.scans_m[1] == b.scans_m[1]);
   CHECK((a.trial.clamps[0].material_point_m - c.trial.clamps[0].material_point_m).norm() > 0.0);
   CHECK(a.scans_m[1].size() > 40u * 200u);
+}
+
+TEST_CASE("by default the lab's reference sheet resolves the clamps' jaws", "[sim_hw][lab]") {
+  // The mesh alone (a simulation on it takes minutes); make_lab_trial builds its sheet on it.
+  const ScannerLabConfig defaults;
+  CHECK(defaults.reference_resolves_jaws);
+  const LabSpecimen specimen = lab_specimen("composite");
+  std::mt19937_64 rng(3);
+  const LabProtocol protocol = lab_protocol(specimen.width_m, specimen.height_m, rng);
+  const twin::SheetMesh uniform = twin::make_rectangular_sheet(
+      specimen.width_m, specimen.height_m,
+      twin::edge_length_for_triangle_count(specimen.width_m, specimen.height_m, defaults.reference_triangles));
+  const twin::SheetMesh reference = lab_reference_mesh(defaults, specimen.width_m, specimen.height_m, protocol.clamps);
+  CHECK(reference.triangle_count() == twin::refine_to_resolve_jaws(uniform, protocol.clamps).triangle_count());
+  CHECK(reference.triangle_count() > uniform.triangle_count());
+  // Every jaw holds a resolved disk: some 20 or more reference vertices.
+  for (const twin::ClampSpec& clamp : protocol.clamps) {
+    int held = 0;
+    for (const twin::Vec2& uv : reference.rest_uv) held += (uv - clamp.material_point_m).norm() <= clamp.grip_radius_m;
+    CHECK(held >= 20);
+  }
+  ScannerLabConfig both = defaults;
+  both.reference_clamp_refinement_radii_m = {0.1};
+  CHECK_THROWS_WITH(lab_reference_mesh(both, specimen.width_m, specimen.height_m, protocol.clamps),
+                    Catch::Contains("not both"));
+  ScannerLabConfig uniform_lab = defaults;
+  uniform_lab.reference_resolves_jaws = false;
+  CHECK(lab_reference_mesh(uniform_lab, specimen.width_m, specimen.height_m, protocol.clamps).triangle_count() ==
+        uniform.triangle_count());
 }
 
 // The protocol alone over many seeds (no simulation): moves stop within lab_max_clamp_distance_m

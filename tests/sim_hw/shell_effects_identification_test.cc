@@ -25,6 +25,7 @@ sim_hw::LabTrial lab_trial_with(const twin::ModelEffects& effects) {
   config.specimen = "composite";
   config.seed = 11;
   config.reference_triangles = kTriangles;
+  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.raw_scans = false;
   twin::Material truth = sim_hw::lab_specimen(config.specimen).truth;
   truth.effects = effects;

@@ -21,6 +21,7 @@ sim_hw::LabTrial lab_trial_with(const twin::ModelEffects& effects) {
   sim_hw::ScannerLabConfig config;
   config.seed = 5;
   config.reference_triangles = kTriangles;
+  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.raw_scans = false;
   // The twin takes the probed clamp positions as exact. With the lab's 0.05 mm probe noise the
   // estimates below move by about two of their (marker-noise-only) interval half-widths

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "clamp_refinement_option.h"
+#include "twin/clamp_refinement_option.h"
 
 namespace twin_cli {
 
@@ -42,7 +42,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
 
 int run_diagnose(DiagnoseArguments& a) {
   if (!a.optimizer.empty()) a.options.optimizer = twin::optimizer_from_name(a.optimizer);
-  const ClampRefinement refinement = parse_clamp_refinement(a.clamp_refinement);
+  const twin::ClampRefinement refinement = twin::parse_clamp_refinement(a.clamp_refinement);
   a.options.clamp_refinement_radii_m = refinement.radii_m;
   a.options.resolve_jaws = refinement.resolve_jaws;
   if (!a.quiet) {

@@ -10,7 +10,7 @@
 
 #include "twin/identification.h"
 #include "twin/residual_export.h"
-#include "clamp_refinement_option.h"
+#include "twin/clamp_refinement_option.h"
 
 namespace twin_cli {
 namespace {

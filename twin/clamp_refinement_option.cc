@@ -1,4 +1,4 @@
-#include "clamp_refinement_option.h"
+#include "twin/clamp_refinement_option.h"
 
 #include <cmath>
 #include <sstream>
@@ -6,9 +6,9 @@
 
 #include <fmt/format.h>
 
-namespace twin_cli {
+namespace twin {
 
-ClampRefinement parse_clamp_refinement(const std::string& value) {
+ClampRefinement parse_clamp_refinement(const std::string& value, const std::string& option) {
   if (value == "none") return {};
   if (value == "jaws") return {{}, true};
   std::vector<double> radii;
@@ -24,12 +24,12 @@ ClampRefinement parse_clamp_refinement(const std::string& value) {
     }
     if (used == 0 || used != item.size() || !std::isfinite(r) || r <= 0.0) {
       throw std::invalid_argument(fmt::format(
-          "--clamp-refinement: expected 'jaws', 'none' or comma-separated radii > 0 (m), got '{}'", item));
+          "{}: expected 'jaws', 'none' or comma-separated radii > 0 (m), got '{}'", option, item));
     }
     radii.push_back(r);
   }
-  if (radii.empty()) throw std::invalid_argument("--clamp-refinement: expected 'jaws', 'none' or radii > 0 (m), got nothing");
+  if (radii.empty()) throw std::invalid_argument(option + ": expected 'jaws', 'none' or radii > 0 (m), got nothing");
   return {radii, false};
 }
 
-}  // namespace twin_cli
+}  // namespace twin
