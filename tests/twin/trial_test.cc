@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "twin/clamp_refinement_option.h"
 #include "twin/material_point.h"
 #include "twin/mesh_io.h"
 #include "tests/support/temp_dir.h"
@@ -321,6 +322,19 @@ TEST_CASE("a twin mesh that resolves the jaws has edges of at most 0.4 grip radi
 
   spec.clamp_refinement_radii_m = {0.05};
   CHECK_THROWS_WITH(trial_sheet_mesh(trial, spec), Catch::Contains("not both"));
+}
+
+TEST_CASE("the clamp refinement option reads jaws, none or radii and names itself in errors", "[twin][trial]") {
+  CHECK(parse_clamp_refinement("jaws").resolve_jaws);
+  CHECK(parse_clamp_refinement("jaws").radii_m.empty());
+  CHECK_FALSE(parse_clamp_refinement("none").resolve_jaws);
+  CHECK(parse_clamp_refinement("none").radii_m.empty());
+  const ClampRefinement radii = parse_clamp_refinement("0.15,0.06");
+  CHECK_FALSE(radii.resolve_jaws);
+  CHECK(radii.radii_m == std::vector<double>{0.15, 0.06});
+  CHECK_THROWS_WITH(parse_clamp_refinement("0.1,-2", "--reference-clamp-refinement"),
+                    Catch::Contains("--reference-clamp-refinement") && Catch::Contains("'-2'"));
+  CHECK_THROWS_WITH(parse_clamp_refinement("Jaws"), Catch::Contains("--clamp-refinement") && Catch::Contains("'Jaws'"));
 }
 
 TEST_CASE("xyz files: comments, blank lines, CRLF and NaN markers", "[twin][trial]") {
