@@ -14,6 +14,7 @@
 
 #include "sim_hw/scanner_lab.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/uniform_lab_config.h"
 
 namespace {
 
@@ -23,12 +24,7 @@ constexpr int kTriangles = 300;
 // of the composite with `truth` into dir/train and dir/test.
 void write_trials(const testing_support::TempDir& dir, const std::optional<twin::Material>& truth) {
   for (const auto& [name, seed] : {std::pair<const char*, int>{"train", 5}, {"test", 6}}) {
-    sim_hw::ScannerLabConfig config;
-    config.specimen = "composite";
-    config.seed = seed;
-    config.reference_triangles = kTriangles;
-    config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-    config.raw_scans = false;
+    sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(seed, kTriangles);
     config.material_override = truth;
     const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
     sim_hw::write_lab_trial(lab, config, (dir / name).string(), (dir / (std::string(name) + "_truth")).string());

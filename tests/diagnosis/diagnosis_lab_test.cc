@@ -12,6 +12,7 @@
 #include "twin/diagnosis/diagnosis_report.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/residual_analysis.h"
+#include "tests/support/uniform_lab_config.h"
 
 namespace dx = twin::diagnosis;
 
@@ -21,13 +22,7 @@ constexpr int kTriangles = 300;
 
 const sim_hw::LabTrial& lab_trial() {
   static const sim_hw::LabTrial lab = [] {
-    sim_hw::ScannerLabConfig config;
-    config.specimen = "composite";
-    config.seed = 11;
-    config.reference_triangles = kTriangles;
-    config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-    config.raw_scans = false;
-    return sim_hw::make_lab_trial(config);
+    return sim_hw::make_lab_trial(testing_support::uniform_lab_config(11, kTriangles));
   }();
   return lab;
 }

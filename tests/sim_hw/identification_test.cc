@@ -16,6 +16,7 @@
 #include "twin/identification.h"
 #include "twin/static_solver.h"
 #include "twin/trial_simulation.h"
+#include "tests/support/uniform_lab_config.h"
 
 namespace {
 
@@ -26,13 +27,7 @@ constexpr int kTriangles = 300;
 
 // A composite trial of the lab's protocol on a reference of `triangles` (no raw scans).
 sim_hw::LabTrial composite_lab(unsigned seed, int triangles) {
-  sim_hw::ScannerLabConfig config;
-  config.specimen = "composite";
-  config.seed = seed;
-  config.reference_triangles = triangles;
-  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-  config.raw_scans = false;
-  return sim_hw::make_lab_trial(config);
+  return sim_hw::make_lab_trial(testing_support::uniform_lab_config(seed, triangles));
 }
 
 const sim_hw::LabTrial& lab_trial() {
@@ -252,11 +247,7 @@ TEST_CASE("the paper's method screens 27 candidates and searches around the best
 TEST_CASE("twin identify writes a material file, a table and residual files", "[sim_hw][identification][tool]") {
   testing_support::TempDir dir("identify_tool");
   const std::string trial_dir = (dir / "trial").string();
-  sim_hw::ScannerLabConfig config;
-  config.reference_triangles = kTriangles;
-  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-  config.seed = 5;
-  config.raw_scans = false;
+  const sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(5, kTriangles);
   sim_hw::write_lab_trial(lab_trial(), config, trial_dir, (dir / "truth").string());
   const std::string out = (dir / "identified.json").string();
   const std::string log = (dir / "log.txt").string();

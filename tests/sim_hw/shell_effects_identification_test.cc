@@ -13,6 +13,7 @@
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
 #include "twin/identification.h"
+#include "tests/support/uniform_lab_config.h"
 
 namespace {
 
@@ -21,12 +22,7 @@ using twin::MaterialParameter;
 constexpr int kTriangles = 300;
 
 sim_hw::LabTrial lab_trial_with(const twin::ModelEffects& effects) {
-  sim_hw::ScannerLabConfig config;
-  config.specimen = "composite";
-  config.seed = 11;
-  config.reference_triangles = kTriangles;
-  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-  config.raw_scans = false;
+  sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(11, kTriangles);
   twin::Material truth = sim_hw::lab_specimen(config.specimen).truth;
   truth.effects = effects;
   config.material_override = truth;

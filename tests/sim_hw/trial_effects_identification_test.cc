@@ -9,6 +9,7 @@
 #include "sim_hw/scanner_lab.h"
 #include "twin/identification.h"
 #include "twin/stage_age.h"
+#include "tests/support/uniform_lab_config.h"
 
 namespace {
 
@@ -18,11 +19,7 @@ using twin::VecX;
 constexpr int kTriangles = 300;
 
 sim_hw::LabTrial lab_trial_with(const twin::ModelEffects& effects) {
-  sim_hw::ScannerLabConfig config;
-  config.seed = 5;
-  config.reference_triangles = kTriangles;
-  config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
-  config.raw_scans = false;
+  sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(5, kTriangles);
   // The twin takes the probed clamp positions as exact. With the lab's 0.05 mm probe noise the
   // estimates below move by about two of their (marker-noise-only) interval half-widths
   // (measured: marker mass 0.392 g [0.388, 0.397] for 0.4 g); without it the truth is inside.
