@@ -22,4 +22,4 @@ done
   --triangles "$triangles" --out "$dir/composite_identified.json" --residuals "$dir/residuals" --quiet
 echo
 echo "lab truth (never read by identification):"
-grep -E '"(tensile_stiffness_u_N_m|shear_stiffness_N_m|bending_rigidity_u_Nm)"' "$dir/composite_1.truth/material.json"
+grep -E '"(tensile_stiffness(_u)?_N_m|shear_stiffness_N_m|bending_rigidity(_u)?_Nm)"' "$dir/composite_1.truth/material.json"
