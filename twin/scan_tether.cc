@@ -3,11 +3,28 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "twin/hessian_pattern.h"
 #include "twin/newton_solver.h"
 #include "twin/objective.h"
+#include "twin/sparse_cholesky.h"
 #include "twin/static_solver.h"
 
 namespace twin {
+namespace {
+
+// Whether x is a stable equilibrium of the model: its exact Hessian over the free DOFs is
+// positive definite (Cholesky succeeds). Newton with a definiteness fix descends the energy but
+// can still stop on a saddle that the last, weak springs held up; a real sheet never rests there.
+bool stable(const ShellModel& model, const DofMap& dofs, const VecX& x) {
+  const Objective potential(model.potential_terms());
+  HessianPattern hessian(dofs, potential.stencils());
+  potential.evaluate(x, nullptr, &hessian, HessianMode::kExact);
+  SparseCholesky cholesky;
+  cholesky.analyze(hessian.matrix());
+  return cholesky.factorize(hessian.matrix());
+}
+
+}  // namespace
 
 MarkerTetherTerm::MarkerTetherTerm(const MaterialPointMap& markers, const std::vector<Vec3>& observed_m,
                                    int vertex_count) {
@@ -69,6 +86,10 @@ SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamp
   }
   StaticSolver statics(model);
   total.append(statics.solve(clamps, poses, current));
+  if (total.usable() && !stable(model, dofs, current)) {
+    total.status = SolveStatus::kIndefinite;
+    total.message = "let go of the scan onto an unstable equilibrium (the exact Hessian is not positive definite)";
+  }
   if (total.usable()) x.swap(current);
   return total;
 }

@@ -54,7 +54,9 @@ struct TetherRelease {
 inline constexpr TetherRelease kPinnedTetherRelease{1e6, 1e-3, 10.0};
 
 // x: on entry any start (the scanned shape, say); on success the equilibrium reached by the
-// homotopy. On failure x is unchanged.
+// homotopy, a stable one (its exact Hessian positive definite). On failure x is unchanged; a
+// homotopy that ends on a saddle, held up by the last weak springs, is a failure (kIndefinite):
+// seen on a blind set (7003), where the kept saddle then broke every later sensitivity.
 SolveReport equilibrium_from_scan(const ShellModel& model, const ClampSet& clamps,
                                   const std::vector<ClampPose>& poses, const MaterialPointMap& markers,
                                   const std::vector<Vec3>& observed_m, VecX& x,
