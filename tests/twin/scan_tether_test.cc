@@ -35,27 +35,44 @@ TEST_CASE("the marker tether term matches finite differences", "[twin][energy]")
         Approx(0.5 * 3.0 * 3 * Vec3(0.01, -0.02, 0.005).squaredNorm()));
 }
 
-TEST_CASE("equilibrium from a scan ends at an equilibrium of the model near the scan", "[twin][physics]") {
+// The curtain both homotopy tests hang: a 0.6 x 0.4 m sheet held by two clamps along its top
+// edge, 5 % closer than on the flat sheet, and a 5 x 7 grid of markers on it.
+Material curtain_material() {
   Material material;
   material.surface_density_kg_m2 = 0.3;
   material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 1e-3;
-  const ShellModel model(make_rectangular_sheet(0.6, 0.4, 0.04), material);
-  // Two clamps along one edge, 5 % closer than on the flat sheet: the sheet hangs in a curtain.
-  const ClampSet clamps(model.mesh(), {{"A", Vec2(0.02, 0.38), 0.015}, {"B", Vec2(0.58, 0.38), 0.015}});
-  SheetPlacement placement;
-  placement.origin_m = Vec3(0, 0, 1.0);
+  return material;
+}
+SheetMesh curtain_mesh() { return make_rectangular_sheet(0.6, 0.4, 0.04); }
+const std::vector<ClampSpec> kCurtainClamps = {{"A", Vec2(0.02, 0.38), 0.015}, {"B", Vec2(0.58, 0.38), 0.015}};
+// The clamps' poses, the jaws turned with the sheet as placed.
+std::vector<ClampPose> curtain_poses(const SheetPlacement& placement) {
   std::vector<ClampPose> poses(2);
   poses[0].position_m = placement.to_world(Vec2(0.035, 0.38));
   poses[1].position_m = placement.to_world(Vec2(0.565, 0.38));
+  for (ClampPose& p : poses) p.rotation = placement.rotation;
+  return poses;
+}
+std::vector<Vec2> curtain_marker_uv() {
+  std::vector<Vec2> uv;
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 7; ++c) uv.push_back(Vec2(0.03 + c * 0.09, 0.03 + r * 0.08));
+  }
+  return uv;
+}
+
+TEST_CASE("equilibrium from a scan ends at an equilibrium of the model near the scan", "[twin][physics]") {
+  const ShellModel model(curtain_mesh(), curtain_material());
+  const ClampSet clamps(model.mesh(), kCurtainClamps);
+  SheetPlacement placement;  // level: the sheet hangs in a curtain
+  placement.origin_m = Vec3(0, 0, 1.0);
+  const std::vector<ClampPose> poses = curtain_poses(placement);
   VecX reference = place_flat(model.mesh(), placement);
   StaticSolver statics(model);
   REQUIRE(statics.solve(clamps, poses, reference).usable());
 
   // "Scan" the reference: markers on a grid, 0.3 mm noise.
-  std::vector<Vec2> uv;
-  for (int r = 0; r < 5; ++r) {
-    for (int c = 0; c < 7; ++c) uv.push_back(Vec2(0.03 + c * 0.09, 0.03 + r * 0.08));
-  }
+  const std::vector<Vec2> uv = curtain_marker_uv();
   const MaterialPointMap markers(model.mesh(), uv);
   std::vector<Vec3> observed = markers.positions(reference);
   std::mt19937 rng(11);
@@ -77,29 +94,20 @@ TEST_CASE("equilibrium from a scan does not end on an unstable equilibrium", "[t
   // the plane), but an unstable one: out of the plane the compression beats the bending
   // stiffness. A scan of exactly that shape, without noise, lets the springs go in the plane, and
   // the last solve stops there; it must be reported as unusable, not returned.
-  Material material;
-  material.surface_density_kg_m2 = 0.3;
-  material.bending_rigidity_u_Nm = material.bending_rigidity_v_Nm = 1e-3;
-  const ShellModel model(make_rectangular_sheet(0.6, 0.4, 0.04), material);
-  const ClampSet clamps(model.mesh(), {{"A", Vec2(0.02, 0.38), 0.015}, {"B", Vec2(0.58, 0.38), 0.015}});
+  const ShellModel model(curtain_mesh(), curtain_material());
+  const ClampSet clamps(model.mesh(), kCurtainClamps);
   SheetPlacement placement;  // u along x, v up along z, the sheet's normal along -y
   placement.origin_m = Vec3(0, 0, 1.0);
   placement.rotation.col(0) = Vec3(1, 0, 0);
   placement.rotation.col(1) = Vec3(0, 0, 1);
   placement.rotation.col(2) = Vec3(0, -1, 0);
-  std::vector<ClampPose> poses(2);
-  poses[0].position_m = placement.to_world(Vec2(0.035, 0.38));
-  poses[1].position_m = placement.to_world(Vec2(0.565, 0.38));
-  for (ClampPose& p : poses) p.rotation = placement.rotation;
+  const std::vector<ClampPose> poses = curtain_poses(placement);
   VecX planar = place_flat(model.mesh(), placement);
   StaticSolver statics(model);
   REQUIRE(statics.solve(clamps, poses, planar).usable());
   for (int i = 0; i < model.vertex_count(); ++i) REQUIRE(std::abs(planar(3 * i + 1)) < 1e-9);  // still planar
 
-  std::vector<Vec2> uv;
-  for (int r = 0; r < 5; ++r) {
-    for (int c = 0; c < 7; ++c) uv.push_back(Vec2(0.03 + c * 0.09, 0.03 + r * 0.08));
-  }
+  const std::vector<Vec2> uv = curtain_marker_uv();
   const MaterialPointMap markers(model.mesh(), uv);
   const std::vector<Vec3> observed = markers.positions(planar);
   VecX x = planar;
