@@ -224,6 +224,43 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
   CHECK(*untested.closest == "orthotropic_stiffness");
 }
 
+TEST_CASE("the verdict names no effect that leaves the base fit's gap above the noise floor where it was",
+          "[diagnosis][verdict]") {
+  // A base fit already within 1.5x the floor, but significantly above it (the creases of a
+  // folded ply, outside the library): a candidate that moves the mean error by a few micrometres
+  // passes every other check, and must not be named.
+  const double sigma = 0.3e-3;
+  const double floor_m = sigma * std::sqrt(8.0 / std::numbers::pi);
+  const int n = 3000;
+  std::vector<dx::CandidateScore> scores(1);
+  scores[0].effect = "rest_curvature";
+  scores[0].score = {60.0, 3, 1e-12, 0.02, {}};
+  const dx::SetScore train = set_with(1.25 * sigma, n, 1.2 * floor_m), test = set_with(1.25 * sigma, n, 1.2 * floor_m);
+  const double base_bic = dx::bic(train.sum_squares_m2, n, 3, sigma);
+  std::vector<dx::Refit> refits(1);
+  refits[0].effect = "rest_curvature";
+  const auto verdict_taking = [&](double train_share, double test_share) {
+    refits[0].train = set_with(1.2 * sigma, n, (1.2 - 0.2 * train_share) * floor_m);
+    refits[0].test = set_with(1.2 * sigma, n, (1.2 - 0.2 * test_share) * floor_m);
+    refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 6, sigma);
+    return dx::decide(train, test, base_bic, scores, refits, sigma);
+  };
+  const dx::Verdict little = verdict_taking(0.03, 0.01);
+  INFO(little.summary);
+  CHECK(little.verdict == "unexplained");
+  CHECK_FALSE(little.effect);
+  // Most of the gap on training, 1 % held out: still not an explanation.
+  CHECK(verdict_taking(0.9, 0.01).verdict == "unexplained");
+  const dx::Verdict most = verdict_taking(0.9, 0.7);
+  INFO(most.summary);
+  CHECK(most.verdict == "effect");
+  // A held-out set at the noise (its base residual not significant) is not judged by its share.
+  const dx::SetScore quiet_test = set_with(1.0 * sigma, n, 1.01 * floor_m);
+  refits[0].train = set_with(1.2 * sigma, n, 1.02 * floor_m);
+  refits[0].test = set_with(1.0 * sigma, n, 1.005 * floor_m);
+  CHECK(dx::decide(train, quiet_test, base_bic, scores, refits, sigma).verdict == "effect");
+}
+
 TEST_CASE("the verdict names no effect whose fitted strength is compatible with absent", "[diagnosis][verdict]") {
   const double sigma = 0.3e-3;
   const int n = 3000;

@@ -57,6 +57,26 @@ bool strength_supported(const Refit& r, std::string& evidence) {
   return !any;
 }
 
+// How much of the base fit's gap (its mean marker error above the noise floor) a refit takes on
+// one set. Judged only where the base residual is significant and its mean is above the floor;
+// elsewhere the gap is noise and its share means nothing.
+struct GapTaken {
+  bool judged = false;
+  double share = 0.0;
+  bool enough = true;
+  std::string describe() const { return judged ? fmt::format("{:.0f} %", 100.0 * share) : std::string("-"); }
+};
+
+GapTaken gap_taken(const SetScore& base, const SetScore& refit, bool base_significant, double floor_m) {
+  GapTaken g;
+  const double gap_m = base.mean_correspondence_m - floor_m;
+  if (!base_significant || refit.residual_count == 0 || !(gap_m > 0.0)) return g;
+  g.judged = true;
+  g.share = (base.mean_correspondence_m - refit.mean_correspondence_m) / gap_m;
+  g.enough = g.share >= kMinGapExplained;
+  return g;
+}
+
 }  // namespace
 
 Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
@@ -120,13 +140,18 @@ Verdict decide(const SetScore& base_train, const SetScore& base_test, double bas
       significant_stages = after.significant_stage_count();
     }
     const bool stages_ok = significant_stages <= kMaxSignificantStageFraction * stages;
+    const GapTaken train_gap = gap_taken(base_train, best->train, train.significant, floor_m);
+    const GapTaken test_gap = gap_taken(base_test, best->test, test.significant, floor_m);
     const bool explained = stages_ok && train_ratio <= kFloorRatio &&
-                           (best->test.residual_count == 0 || test_ratio <= kFloorRatio);
+                           (best->test.residual_count == 0 || test_ratio <= kFloorRatio) && train_gap.enough &&
+                           test_gap.enough;
     v.reasons.push_back(fmt::format(
         "with {}: mean marker error {:.2f} / {:.2f} x the noise floor (train / held-out; accepted up to {:.2f}); "
-        "{} of {} training stages still significant (accepted up to {:.0f} %); residual RMS {:.2f} / {:.2f} x sigma",
+        "{} of {} training stages still significant (accepted up to {:.0f} %); gap above the floor taken {} / {} "
+        "(train / held-out; needs {:.0f} % where the base is significant); residual RMS {:.2f} / {:.2f} x sigma",
         best->effect, train_ratio, test_ratio, kFloorRatio, significant_stages, stages,
-        100.0 * kMaxSignificantStageFraction, after_train.rms_ratio, after_test.rms_ratio));
+        100.0 * kMaxSignificantStageFraction, train_gap.describe(), test_gap.describe(), 100.0 * kMinGapExplained,
+        after_train.rms_ratio, after_test.rms_ratio));
     v.chosen = best;
     if (explained) {
       v.verdict = "effect";
