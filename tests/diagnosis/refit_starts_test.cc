@@ -76,4 +76,33 @@ TEST_CASE("clamp grip refits also start with firm jaws at widths over the range"
   CHECK(std::is_sorted(widths.begin(), widths.end()));
   CHECK(widths.front() < twin::ModelEffects{}.clamp_grip_width_m);
   CHECK(widths.back() <= twin::kMaxClampGripWidth_m);
+
+  // The score test took its step at a profiled width: the one-step starts keep that width
+  // (the step's strength means that grip's strength), the others do not need it.
+  REQUIRE(grip.score_profile);
+  CHECK(grip.score_profile->parameter == twin::MaterialParameter::kClampGripWidth);
+  const double scored_width_m = grip.score_profile->values.front();
+  const std::vector<twin::Material> profiled = dx::refit_starts(grip, base_fit(), step, {}, scored_width_m);
+  REQUIRE(profiled.size() == 6);
+  CHECK(profiled[0].effects.clamp_grip_strength == 0.0);
+  CHECK(profiled[1].effects.clamp_grip_strength == Approx(0.2));
+  CHECK(profiled[1].effects.clamp_grip_width_m == scored_width_m);
+  CHECK(profiled[2].effects.clamp_grip_width_m == scored_width_m);
+  CHECK(profiled[3].effects.clamp_grip_width_m == starts[3].effects.clamp_grip_width_m);
+}
+
+TEST_CASE("profiled score values lie in their parameter's range", "[diagnosis][effects]") {
+  for (const dx::CandidateEffect& e : dx::effect_library()) {
+    if (!e.score_profile) continue;
+    INFO(e.name);
+    const twin::ParameterScale scale = twin::parameter_scale(e.score_profile->parameter);
+    CHECK(e.score_profile->values.size() >= 2);
+    for (double v : e.score_profile->values) {
+      CHECK(v >= scale.lower);
+      CHECK(v <= scale.upper);
+    }
+    // Not one of the parameters the test differentiates: it is held at each value.
+    CHECK(std::find(e.score_parameters.begin(), e.score_parameters.end(), e.score_profile->parameter) ==
+          e.score_parameters.end());
+  }
 }

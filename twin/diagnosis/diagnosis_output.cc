@@ -38,6 +38,14 @@ const Refit* refit_of(const DiagnosisRecord& r, const std::string& effect) {
 
 ResidualAnalysis analyse(const ResidualField& field, double sigma_m) { return analyse_residuals(field, sigma_m); }
 
+// Where a profiled candidate's score was taken, e.g. "scored at clamp_grip_width_m = 0.03 (largest of 4)".
+std::string profile_note(const CandidateScore& s) {
+  if (!s.profile_value) return "";
+  const CandidateEffect& effect = find_effect(s.effect);
+  return fmt::format("scored at {} = {:.4g} (largest of {})", parameter_name(effect.score_profile->parameter),
+                     *s.profile_value, effect.score_profile->values.size());
+}
+
 }  // namespace
 
 nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& record) {
@@ -66,7 +74,14 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
                      {"p_value", s.score.p_value},
                      {"explained_fraction", s.score.explained_fraction},
                      {"skipped", s.skipped.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.skipped)},
+                     {"profile", nullptr},
                      {"refit", nullptr}};
+    if (s.profile_value) {
+      const CandidateEffect& effect = find_effect(s.effect);
+      c["profile"] = {{"parameter", parameter_name(effect.score_profile->parameter)},
+                      {"value", *s.profile_value},
+                      {"values_tried", effect.score_profile->values.size()}};
+    }
     if (const Refit* r = refit_of(record, s.effect)) {
       c["refit"] = r->usable() ? nlohmann::json{{"parameters", estimates_json(r->result.estimates)},
                                                 {"bic", r->information_criterion},
@@ -119,7 +134,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
                                     general(s.score.p_value), fixed(100 * s.score.explained_fraction, 1),
                                     fitted ? fixed(1e3 * r->test.mean_correspondence_m, 3) : "-",
                                     fitted ? fixed(r->information_criterion - record.base_bic, 1) : "-",
-                                    s.skipped.empty() ? (r && !r->usable() ? r->failure : "") : s.skipped});
+                                    s.skipped.empty() ? (r && !r->usable() ? r->failure : profile_note(s)) : s.skipped});
   };
   for (int i : record.ranking) row(record.scores[i]);
   for (const CandidateScore& s : record.scores) {

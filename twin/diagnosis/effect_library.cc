@@ -24,38 +24,40 @@ const std::vector<CandidateEffect>& effect_library() {
                  {P::kTensileU, P::kShear, P::kBendingU, P::kTensileV, P::kBendingV},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kTensileV, P::kBendingV},
-                 CandidateEffect::Needs::kNothing});
+                 CandidateEffect::Needs::kNothing, std::nullopt});
     l.push_back({"rest_curvature", "roll set: the ply is curved at rest (curvature tensor K0 in the material frame)",
                  {P::kTensile, P::kShear, P::kBending, P::kRestCurvatureUU, P::kRestCurvatureVV, P::kRestCurvatureUV},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kRestCurvatureUU, P::kRestCurvatureVV, P::kRestCurvatureUV},
-                 CandidateEffect::Needs::kNothing});
+                 CandidateEffect::Needs::kNothing, std::nullopt});
     l.push_back({"nonlinear_bending", "strain-dependent bending: M = D k (1 + beta k^2)",
                  {P::kTensile, P::kShear, P::kBending, P::kBendingStiffening},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kBendingStiffening},
-                 CandidateEffect::Needs::kNothing});
+                 CandidateEffect::Needs::kNothing, std::nullopt});
     l.push_back({"marker_mass", "each scan marker adds a point mass where it is glued",
                  {P::kTensile, P::kShear, P::kBending, P::kMarkerMass},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kMarkerMass},
-                 CandidateEffect::Needs::kMarkerStages});
+                 CandidateEffect::Needs::kMarkerStages, std::nullopt});
     l.push_back({"viscoelastic_relaxation",
                  "stiffnesses relax by a fraction with time constant tau after the clamps move",
                  {P::kTensile, P::kShear, P::kBending, P::kRelaxationFraction, P::kRelaxationTime},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kRelaxationFraction},
-                 CandidateEffect::Needs::kStageAges});
+                 CandidateEffect::Needs::kStageAges, std::nullopt});
     l.push_back({"clamp_grip", "the clamps' jaws grip a wider patch than the trial's grip radii say",
                  {P::kTensile, P::kShear, P::kBending, P::kClampGripStrength, P::kClampGripWidth},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kClampGripStrength},
-                 CandidateEffect::Needs::kNothing});
+                 CandidateEffect::Needs::kNothing,
+                 // Doubling widths over the parameter's range (kMaxClampGripWidth_m = 15 cm).
+                 CandidateEffect::Profile{P::kClampGripWidth, {0.015, 0.03, 0.06, 0.12}}});
     l.push_back({"clamp_slip", "the ply slides in the clamps' jaws: each patch gives way along the jaw faces under its pull",
                  {P::kTensile, P::kShear, P::kBending, P::kClampSlipCompliance},
                  3,
                  {P::kTensile, P::kShear, P::kBending, P::kClampSlipCompliance},
-                 CandidateEffect::Needs::kNothing});
+                 CandidateEffect::Needs::kNothing, std::nullopt});
     return l;
   }();
   return library;

@@ -10,6 +10,7 @@
 // are absent when they equal the weft ones. null_material() sets a material to the null of a
 // candidate, so a refit starts at the base fit with the effect absent.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,10 +34,22 @@ struct CandidateEffect {
   // the per-direction model (the CAUTION of common.md concerns material_at, and the test only
   // evaluates at the isotropic base fit, where u = v). For relaxation the test uses the
   // fraction with tau at its default: tau has no sensitivity while the fraction is zero; for
-  // clamp grip likewise the strength with the width at its default (5 cm).
+  // clamp grip likewise the strength, with the width profiled (score_profile below).
   std::vector<MaterialParameter> score_parameters;
   enum class Needs { kNothing, kMarkerStages, kStageAges };
   Needs needs = Needs::kNothing;
+  // A parameter the score test cannot linearise in (it has no sensitivity while the effect is
+  // absent, so the effect's columns depend on its value) and the values it is tried at: the
+  // test is made at each, the largest statistic kept and its p-value multiplied by the number of
+  // values (Bonferroni). Clamp grip: the width, over its range, since a grip the jaws' own width
+  // and one of 12 cm move the markers in different patterns, and the default 5 cm alone left a
+  // 26 mm grip ranked below three other candidates (blind set 7003). Relaxation's time is left at
+  // its default: that test's sensitivity barely changes shape with tau (a scale of the fraction).
+  struct Profile {
+    MaterialParameter parameter;
+    std::vector<double> values;
+  };
+  std::optional<Profile> score_profile;
 
   int added_count() const { return static_cast<int>(refit_parameters.size()) - base_count; }
   int score_dof() const { return static_cast<int>(score_parameters.size()) - 3; }

@@ -58,8 +58,13 @@ std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& tria
 }
 
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
-                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s) {
+                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s,
+                                   std::optional<double> profile_value) {
   std::vector<Material> starts{null_material(effect, base_fit)};
+  // Where the score test linearised: the null material, with the profiled parameter at the
+  // value whose statistic was taken.
+  Material scored = starts.front();
+  if (profile_value && effect.score_profile) set_parameter(scored, effect.score_profile->parameter, *profile_value);
   const std::vector<MaterialParameter>& p = effect.score_parameters;
   // The one-step estimate, and for effects with signed parameters also its mirror: curvature
   // of either sign bends a hanging sheet alike to first order, so the linearisation's sign is
@@ -70,7 +75,7 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
   const bool has_step = step.size() == static_cast<Eigen::Index>(p.size()) && step.allFinite() && step.norm() > 0.0;
   for (const auto& [sign, length] : {std::pair{1.0, 1.0}, std::pair{1.0, 3.0}, std::pair{-1.0, 1.0}}) {
     if ((sign < 0.0 && !signed_effect) || !has_step) continue;
-    Material m = starts.front();
+    Material m = scored;
     // In order, as the Jacobian's columns moved them: a paired parameter scales both
     // directions, and its V parameter then scales the warp further.
     for (std::size_t j = 0; j < p.size(); ++j) {
@@ -138,11 +143,12 @@ const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& bas
 
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
-                      const Eigen::VectorXd& score_step, double sigma_m, const RefitOptions& options,
-                      const std::function<void(const std::string&)>& progress) {
+                      const Eigen::VectorXd& score_step, std::optional<double> score_profile_value, double sigma_m,
+                      const RefitOptions& options, const std::function<void(const std::string&)>& progress) {
   Refit r;
   r.effect = effect.name;
-  const std::vector<Material> starts = refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training));
+  const std::vector<Material> starts =
+      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile_value);
   IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {

@@ -11,6 +11,7 @@
 // thousand residuals) per added parameter, stricter than AIC's 2.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,10 +77,13 @@ struct RefitOptions {
 // put tau at 1/6, 1/2 and 5/6 of the way (logarithmically) from the youngest to the oldest
 // stage age of the training trials (`stage_ages_s`, finite values only), the fraction at the
 // one-step estimate kept within [0.1, 0.6]. For clamp grip the response saturates in the width
-// (jaws that pass the first ring of vertices grip it whole) and the score test assumed the
-// default width: three more starts with strength 1 at widths 2.5, 6 and 12 cm.
+// (jaws that pass the first ring of vertices grip it whole) and the score test saw only the
+// width of its largest score: three more starts with strength 1 at widths 2.5, 6 and 12 cm.
+// `profile_value`: the value of the effect's profiled parameter the score test's step was taken
+// at (CandidateScore::profile_value); the one-step starts keep it.
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
-                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {});
+                                   const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {},
+                                   std::optional<double> profile_value = std::nullopt);
 
 // The finite load ages (s) of the trials' marker stages.
 std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& trials);
@@ -112,7 +116,7 @@ const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& bas
 // is kept, with its intervals and scores.
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
-                      const Eigen::VectorXd& score_step, double sigma_m,
+                      const Eigen::VectorXd& score_step, std::optional<double> score_profile_value, double sigma_m,
                       const RefitOptions& options, const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace twin::diagnosis

@@ -7,6 +7,7 @@
 
 #include "twin/diagnosis/chi_square.h"
 #include "twin/identification.h"
+#include "twin/material_parameters.h"
 
 namespace twin::diagnosis {
 namespace {
@@ -76,18 +77,34 @@ std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>&
     c.skipped = applicability(effect, trials);
     if (c.skipped.empty()) {
       for (TrialEvaluator* t : training) t->clear_warm_starts();
-      const Material at = null_material(effect, base_fit);
-      IdentificationProblem problem(training, at, effect.score_parameters);
-      const IdentificationProblem::Evaluation e =
-          problem.evaluate(problem.coordinates_of(at), Derivatives::kJacobian, 2.0);
-      if (!e.usable()) {
-        c.skipped = "the simulation at the base fit failed: " + e.failure;
-      } else {
+      // The profile's values (or the null material's own, once). The effect is absent at each,
+      // so the equilibria are the same and the warm starts carry over.
+      std::vector<std::optional<double>> values{std::nullopt};
+      if (effect.score_profile) values.assign(effect.score_profile->values.begin(), effect.score_profile->values.end());
+      bool tested = false;
+      for (const std::optional<double>& value : values) {
+        Material at = null_material(effect, base_fit);
+        if (value) set_parameter(at, effect.score_profile->parameter, *value);
+        IdentificationProblem problem(training, at, effect.score_parameters);
+        const IdentificationProblem::Evaluation e =
+            problem.evaluate(problem.coordinates_of(at), Derivatives::kJacobian, 2.0);
+        if (!e.usable()) {
+          c.skipped = "the simulation at the base fit failed: " + e.failure;
+          break;
+        }
         const int kb = static_cast<int>(base_parameters().size());
-        c.score = score_statistic(e.residuals_m, e.coordinate_jacobian.leftCols(kb),
-                                  e.coordinate_jacobian.rightCols(e.coordinate_jacobian.cols() - kb), sigma_m);
-        if (c.score.dof == 0) c.skipped = "the markers do not respond to its parameters";
+        const ScoreStatistic s = score_statistic(
+            e.residuals_m, e.coordinate_jacobian.leftCols(kb),
+            e.coordinate_jacobian.rightCols(e.coordinate_jacobian.cols() - kb), sigma_m);
+        if (s.dof > 0 && (!tested || s.statistic > c.score.statistic)) {
+          c.score = s;
+          c.profile_value = value;
+          tested = true;
+        }
       }
+      if (c.skipped.empty() && !tested) c.skipped = "the markers do not respond to its parameters";
+      // Bonferroni over the values tried: the largest of several statistics is not chi-square.
+      if (tested && values.size() > 1) c.score.p_value = std::min(1.0, c.score.p_value * values.size());
     }
     scores.push_back(c);
   }

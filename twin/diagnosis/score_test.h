@@ -14,6 +14,7 @@
 // explained_fraction = the same numerator / |r|^2: how much of the residual the effect's span
 // can take.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,12 +45,14 @@ ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::
 struct CandidateScore {
   std::string effect;
   std::string skipped;      // why the candidate was not tested ("" when it was)
-  ScoreStatistic score;
+  ScoreStatistic score;     // for a profiled candidate: at the value with the largest statistic
+  std::optional<double> profile_value;  // that value (CandidateEffect::score_profile), else none
 };
 
 // Evaluates the training trials once per candidate at `base_fit` (the effect absent) with the
 // Jacobian of the candidate's score parameters, and returns the statistics in the candidates'
-// order. Warm starts are dropped between candidates (their parameter lists differ).
+// order; a profiled candidate once per profile value (effect_library.h). Warm starts are
+// dropped between candidates (their parameter lists differ).
 std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>& candidates,
                                              const std::vector<TrialEvaluator*>& training, const Material& base_fit,
                                              double sigma_m);
