@@ -87,7 +87,7 @@ wait
 
 # Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
 results="$out/results.tsv"
-printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\n' > "$results"
+printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\tmeets_gap_target\n' > "$results"
 index=0
 for effect in "${effect_list[@]}"; do
   index=$((index + 1))
@@ -98,7 +98,7 @@ for effect in "${effect_list[@]}"; do
     diag_s=$(cat "$dir/seconds_diagnose.txt" 2>/dev/null || echo nan)
     if [ -f "$dir/error.txt" ] || [ ! -f "$dir/report/verdict.json" ]; then
       echo "blind_accuracy: $effect seed $seed: $(cat "$dir/error.txt" 2>/dev/null)" >&2
-      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
+      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\tno\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
       continue
     fi
     truth=$(jq -r '.effect' "$dir/truth/hidden_effect.json")
@@ -112,7 +112,10 @@ for effect in "${effect_list[@]}"; do
        else .verdict end) as $outcome |
       (if $truth == "none" or $truth == "outside_library" then "-"
        elif ($a != null and $b != null and $f != null and $a <= 0.5 * $b and $a <= 1.5 * $f) then "yes" else "no" end) as $meets |
-      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift]
+      (if $truth == "none" or $truth == "outside_library" then "-"
+       elif ($a != null and $b != null and $f != null and $b > $f and ($a - $f) <= 0.5 * ($b - $f) and $a <= 1.5 * $f)
+       then "yes" else "no" end) as $gap |
+      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift, $gap]
       | map(tostring) | join("\t")' "$dir/report/verdict.json" >> "$results"
     echo "blind_accuracy: $effect seed $seed: $(tail -1 "$results" | cut -f3-9)" >&2
   done
@@ -126,16 +129,18 @@ awk -F'\t' '
   { e = $1; order[e] = order[e] ? order[e] : ++n; names[order[e]] = e; sets[e]++; count[e, $3]++
     if ($6 != "nan" && $7 != "nan") { before[e] += $6; after[e] += $7; errs[e]++ }
     if ($9 == "yes") meets[e]++
+    if ($13 == "yes") gaps[e]++
     if ($12 != "nan" && $12 != "") { shift[e] += $12; shifts[e]++ }
     if ($10 != "nan") { gs += $10; gn++ } if ($11 != "nan") { ds += $11; dn++ } }
   END {
-    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s\n", "effect", "sets", "right", "wrong_name", "none",
-           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm"
+    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s %8s\n", "effect", "sets", "right", "wrong_name", "none",
+           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm", "gap_ok"
     for (i = 1; i <= n; i++) { e = names[i]
-      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s\n", e, sets[e], count[e, "right"],
+      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s %8s\n", e, sets[e], count[e, "right"],
              count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "failed"],
              errs[e] ? sprintf("%.3f", before[e] / errs[e]) : "-", errs[e] ? sprintf("%.3f", after[e] / errs[e]) : "-",
              (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]),
-             shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-" }
+             shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-",
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", gaps[e], sets[e]) }
     if (gn) printf "mean seconds: generate %.1f (%d sets), diagnose %s\n", gs / gn, gn, dn ? sprintf("%.1f (%d sets)", ds / dn, dn) : "-"
   }' "$results"
