@@ -85,8 +85,12 @@ VecX force_parameter_derivative(ShellModel& model, const DofMap& dofs, const Vec
   Material plus = restorer.saved(), minus = restorer.saved();
   const ParameterScale scale = parameter_scale(parameter);
   if (scale.logarithmic) {
-    scale_parameter(plus, parameter, 1.0 + relative_step);
-    scale_parameter(minus, parameter, 1.0 - relative_step);
+    // Central, unless a side would leave the parameter's range (a grip width the search has
+    // taken to its bound): then one-sided from the value itself, inside the range.
+    const double p = get_parameter(minus, parameter);
+    const double up = p * (1.0 + relative_step), down = p * (1.0 - relative_step);
+    set_parameter(plus, parameter, up <= scale.upper ? up : p);
+    set_parameter(minus, parameter, down >= scale.lower ? down : p);
   } else if (parameter == MaterialParameter::kClampSlipCompliance) {
     // The slip springs go as 1 / (c + c0) with c0 1e-5 of the parameter's scale: a
     // forward step relative to c + c0 keeps the difference's error at O(step).
@@ -95,8 +99,14 @@ VecX force_parameter_derivative(ShellModel& model, const DofMap& dofs, const Vec
   } else {
     // Effect parameters may sit at their bound (0: the effect absent), where a central
     // difference would step out of the valid range. Their energies are linear in them
-    // (model_effects.h), so a forward difference of one scale step is exact up to rounding.
-    set_parameter(plus, parameter, get_parameter(minus, parameter) + relative_step * scale.scale);
+    // (model_effects.h), so a forward difference of one scale step is exact up to rounding; at
+    // the upper bound (a relaxation fraction of 0.95) it steps backward instead.
+    const double p = get_parameter(minus, parameter), h = relative_step * scale.scale;
+    if (p + h <= scale.upper) {
+      set_parameter(plus, parameter, p + h);
+    } else {
+      set_parameter(minus, parameter, p - h);
+    }
   }
   // The step actually taken, after rounding.
   const double step = get_parameter(plus, parameter) - get_parameter(minus, parameter);
