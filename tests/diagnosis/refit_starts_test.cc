@@ -82,7 +82,8 @@ TEST_CASE("clamp grip refits also start with firm jaws at widths over the range"
   REQUIRE(grip.score_profile);
   CHECK(grip.score_profile->parameter == twin::MaterialParameter::kClampGripWidth);
   const double scored_width_m = grip.score_profile->values.front();
-  const std::vector<twin::Material> profiled = dx::refit_starts(grip, base_fit(), step, {}, scored_width_m);
+  const dx::ScoreProfilePoint scored{twin::MaterialParameter::kClampGripWidth, scored_width_m, 4};
+  const std::vector<twin::Material> profiled = dx::refit_starts(grip, base_fit(), step, {}, scored);
   REQUIRE(profiled.size() == 6);
   CHECK(profiled[0].effects.clamp_grip_strength == 0.0);
   CHECK(profiled[1].effects.clamp_grip_strength == Approx(0.2));

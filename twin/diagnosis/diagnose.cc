@@ -106,16 +106,13 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   // 3. Score tests, refits of the best few, the verdict.
   say(fmt::format("diagnose: score tests of {} candidate(s) at the base fit", candidates.size()));
   record.scores = score_candidates(candidates, train, base.material, out.sigma_m);
-  for (std::size_t i = 0; i < record.scores.size(); ++i) {
-    const CandidateScore& s = record.scores[i];
+  for (const CandidateScore& s : record.scores) {
     if (!s.skipped.empty()) {
       say(fmt::format("  score {:<24} skipped: {}", s.effect, s.skipped));
       continue;
     }
-    const std::string at = s.profile_value ? fmt::format(" (at {} = {:.4g})",
-                                                         parameter_name(candidates[i].score_profile->parameter),
-                                                         *s.profile_value)
-                                           : "";
+    const std::string at =
+        s.profile ? fmt::format(" (at {} = {:.4g})", parameter_name(s.profile->parameter), s.profile->value) : "";
     say(fmt::format("  score {:<24} {:10.1f} on {} dof, p = {:.2g}, explains {:.1f} %{}", s.effect, s.score.statistic,
                     s.score.dof, s.score.p_value, 100.0 * s.score.explained_fraction, at));
   }
@@ -143,7 +140,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
       const CandidateEffect& effect = candidates[order[k]];
       say(fmt::format("diagnose: refit with {}", effect.name));
       record.refits.push_back(refit_candidate(effect, train, test, base.material, record.scores[order[k]].score.step,
-                                              record.scores[order[k]].profile_value,
+                                              record.scores[order[k]].profile,
                                               out.sigma_m, refit_options, o.progress));
     }
   } else {

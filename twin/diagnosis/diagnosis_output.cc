@@ -40,10 +40,9 @@ ResidualAnalysis analyse(const ResidualField& field, double sigma_m) { return an
 
 // Where a profiled candidate's score was taken, e.g. "scored at clamp_grip_width_m = 0.03 (largest of 4)".
 std::string profile_note(const CandidateScore& s) {
-  if (!s.profile_value) return "";
-  const CandidateEffect& effect = find_effect(s.effect);
-  return fmt::format("scored at {} = {:.4g} (largest of {})", parameter_name(effect.score_profile->parameter),
-                     *s.profile_value, effect.score_profile->values.size());
+  if (!s.profile) return "";
+  return fmt::format("scored at {} = {:.4g} (largest of {})", parameter_name(s.profile->parameter), s.profile->value,
+                     s.profile->values_tried);
 }
 
 }  // namespace
@@ -76,11 +75,10 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
                      {"skipped", s.skipped.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.skipped)},
                      {"profile", nullptr},
                      {"refit", nullptr}};
-    if (s.profile_value) {
-      const CandidateEffect& effect = find_effect(s.effect);
-      c["profile"] = {{"parameter", parameter_name(effect.score_profile->parameter)},
-                      {"value", *s.profile_value},
-                      {"values_tried", effect.score_profile->values.size()}};
+    if (s.profile) {
+      c["profile"] = {{"parameter", parameter_name(s.profile->parameter)},
+                      {"value", s.profile->value},
+                      {"values_tried", s.profile->values_tried}};
     }
     if (const Refit* r = refit_of(record, s.effect)) {
       c["refit"] = r->usable() ? nlohmann::json{{"parameters", estimates_json(r->result.estimates)},

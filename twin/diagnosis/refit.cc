@@ -59,12 +59,12 @@ std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& tria
 
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s,
-                                   std::optional<double> profile_value) {
+                                   const std::optional<ScoreProfilePoint>& profile) {
   std::vector<Material> starts{null_material(effect, base_fit)};
   // Where the score test linearised: the null material, with the profiled parameter at the
   // value whose statistic was taken.
   Material scored = starts.front();
-  if (profile_value && effect.score_profile) set_parameter(scored, effect.score_profile->parameter, *profile_value);
+  if (profile) set_parameter(scored, profile->parameter, profile->value);
   const std::vector<MaterialParameter>& p = effect.score_parameters;
   // The one-step estimate, and for effects with signed parameters also its mirror: curvature
   // of either sign bends a hanging sheet alike to first order, so the linearisation's sign is
@@ -143,12 +143,13 @@ const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& bas
 
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
-                      const Eigen::VectorXd& score_step, std::optional<double> score_profile_value, double sigma_m,
-                      const RefitOptions& options, const std::function<void(const std::string&)>& progress) {
+                      const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
+                      double sigma_m, const RefitOptions& options,
+                      const std::function<void(const std::string&)>& progress) {
   Refit r;
   r.effect = effect.name;
   const std::vector<Material> starts =
-      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile_value);
+      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile);
   IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {

@@ -17,6 +17,7 @@
 
 #include "twin/diagnosis/effect_library.h"
 #include "twin/diagnosis/residual_field.h"
+#include "twin/diagnosis/score_test.h"
 #include "twin/identification.h"
 
 namespace twin::diagnosis {
@@ -79,11 +80,11 @@ struct RefitOptions {
 // one-step estimate kept within [0.1, 0.6]. For clamp grip the response saturates in the width
 // (jaws that pass the first ring of vertices grip it whole) and the score test saw only the
 // width of its largest score: three more starts with strength 1 at widths 2.5, 6 and 12 cm.
-// `profile_value`: the value of the effect's profiled parameter the score test's step was taken
-// at (CandidateScore::profile_value); the one-step starts keep it.
+// `profile`: where the score test's step was taken, for a profiled effect
+// (CandidateScore::profile); the one-step starts keep that value.
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {},
-                                   std::optional<double> profile_value = std::nullopt);
+                                   const std::optional<ScoreProfilePoint>& profile = std::nullopt);
 
 // The finite load ages (s) of the trials' marker stages.
 std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& trials);
@@ -116,7 +117,8 @@ const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& bas
 // is kept, with its intervals and scores.
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
-                      const Eigen::VectorXd& score_step, std::optional<double> score_profile_value, double sigma_m,
+                      const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
+                      double sigma_m,
                       const RefitOptions& options, const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace twin::diagnosis

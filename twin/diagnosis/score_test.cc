@@ -98,7 +98,7 @@ std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>&
             e.coordinate_jacobian.rightCols(e.coordinate_jacobian.cols() - kb), sigma_m);
         if (s.dof > 0 && (!tested || s.statistic > c.score.statistic)) {
           c.score = s;
-          c.profile_value = value;
+          if (value) c.profile = ScoreProfilePoint{effect.score_profile->parameter, *value, static_cast<int>(values.size())};
           tested = true;
         }
       }

@@ -42,11 +42,19 @@ struct ScoreStatistic {
 ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::MatrixXd& base_jacobian,
                                const Eigen::MatrixXd& effect_jacobian, double sigma_m);
 
+// Where a profiled candidate's statistic was taken: its profiled parameter's value, and how many
+// values were tried (the Bonferroni factor of its p-value).
+struct ScoreProfilePoint {
+  MaterialParameter parameter;
+  double value = 0.0;
+  int values_tried = 0;
+};
+
 struct CandidateScore {
   std::string effect;
   std::string skipped;      // why the candidate was not tested ("" when it was)
   ScoreStatistic score;     // for a profiled candidate: at the value with the largest statistic
-  std::optional<double> profile_value;  // that value (CandidateEffect::score_profile), else none
+  std::optional<ScoreProfilePoint> profile;  // that value (CandidateEffect::score_profile), else none
 };
 
 // Evaluates the training trials once per candidate at `base_fit` (the effect absent) with the
