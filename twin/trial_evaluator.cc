@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "twin/continuation_start.h"
 #include "twin/job_lanes.h"
 #include "twin/observed_shape.h"
 #include "twin/scan_tether.h"
@@ -119,25 +120,13 @@ std::vector<ClampPose> TrialEvaluator::stage_poses(int stage) const {
   return poses;
 }
 
-const TrialEvaluator::CachedEquilibria* TrialEvaluator::nearest_cached(const VecX& coordinates) const {
-  const CachedEquilibria* best = nullptr;
-  double best_distance = std::log(kMaterialStepRatio) * kMaxMaterialSteps;
-  for (const CachedEquilibria& c : cache_) {
-    if (c.coordinates.size() != coordinates.size()) continue;
-    const double d = (c.coordinates - coordinates).cwiseAbs().maxCoeff();
-    // The same material can be cached twice (continued, and simulated afresh) on different
-    // branches: prefer the one nearer the scans.
-    bool better = d <= best_distance;
-    if (best) {
-      const bool tie = std::abs(d - best_distance) <= 1e-12;
-      better = tie ? c.sum_squares_m2 < best->sum_squares_m2 : d < best_distance;
-    }
-    if (better) {
-      best_distance = d;
-      best = &c;
-    }
-  }
-  return best;
+const TrialEvaluator::CachedEquilibria* TrialEvaluator::continuation_cached(const VecX& coordinates) const {
+  std::vector<EvaluatedMaterial> evaluated;
+  evaluated.reserve(cache_.size());
+  for (const CachedEquilibria& c : cache_) evaluated.push_back({c.coordinates, c.sum_squares_m2});
+  const double one_step = std::log(kMaterialStepRatio);
+  const std::optional<std::size_t> k = continuation_start(evaluated, coordinates, one_step, one_step * kMaxMaterialSteps);
+  return k ? &cache_[*k] : nullptr;
 }
 
 bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material& target,
@@ -377,7 +366,7 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   const VecX coordinates = search_coordinates(material, parameters);
   bool simulated = false;
   double start_sum_squares_m2 = 0.0;
-  if (const CachedEquilibria* cached = fresh ? nullptr : nearest_cached(coordinates)) {
+  if (const CachedEquilibria* cached = fresh ? nullptr : continuation_cached(coordinates)) {
     start_sum_squares_m2 = cached->sum_squares_m2;
     simulated = simulate_warm(*cached, used, parameters, fit);
     fit.warm_started = simulated;
@@ -410,7 +399,7 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   if (fresh) {
     // A fresh simulation that fits better than the equilibria continued to this material is on
     // a better branch: continuing from the old ones nearby would carry the worse one on.
-    const CachedEquilibria* continued = nearest_cached(coordinates);
+    const CachedEquilibria* continued = continuation_cached(coordinates);
     if (continued && fit.sum_squares_m2 < continued->sum_squares_m2) cache_.clear();
   }
   CachedEquilibria entry{coordinates, fit.sum_squares_m2, {}};

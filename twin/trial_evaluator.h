@@ -31,7 +31,8 @@
 // 1.54, 3.79 mm with it on 300 triangles, whose path took 0.6-0.9 s. If a stage then has no
 // equilibrium, or a stage is seen only as a cloud (no tether), the path runs on the twin as before.
 // Later evaluations start every stage from the equilibrium
-// of the nearest material evaluated before and carry it to the new material in steps of at
+// of a material evaluated before (continuation_start.h: the best-fitting one within one
+// material step, else the nearest) and carry it to the new material in steps of at
 // most a factor kMaterialStepRatio in every varied parameter (continuation in the material
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
 // stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
@@ -139,7 +140,7 @@ class TrialEvaluator {
     double sum_squares_m2 = 0.0;  // their misfit: of equally near entries, the better fit starts
     std::vector<VecX> stage_x;
   };
-  const CachedEquilibria* nearest_cached(const VecX& coordinates) const;
+  const CachedEquilibria* continuation_cached(const VecX& coordinates) const;
   bool simulate_warm(const CachedEquilibria& start, const Material& target,
                      const std::vector<MaterialParameter>& parameters, TrialFit& fit);
   bool simulate_cold(TrialFit& fit, bool coarse_path_allowed = true);
