@@ -92,6 +92,39 @@ TEST_CASE("clamp grip refits also start with firm jaws at widths over the range"
   CHECK(profiled[3].effects.clamp_grip_width_m == starts[3].effects.clamp_grip_width_m);
 }
 
+TEST_CASE("clamp grip refits also start with firm jaws from the base fit's own start", "[diagnosis][refit]") {
+  const dx::CandidateEffect& grip = dx::find_effect("clamp_grip");
+  Eigen::VectorXd step = Eigen::VectorXd::Zero(4);
+  step(3) = 2.0;
+  // A base fit that stiffened the sheet to mimic wide jaws, and the start it left.
+  twin::Material stiffened = base_fit();
+  stiffened.tensile_stiffness_u_N_m = stiffened.tensile_stiffness_v_N_m = 66000.0;
+  stiffened.bending_rigidity_u_Nm = stiffened.bending_rigidity_v_Nm = 2.4e-3;
+  twin::Material start = base_fit();
+  start.effects.clamp_grip_strength = 0.5;  // a start file may carry the effect: it is replaced
+
+  const std::vector<twin::Material> without = dx::refit_starts(grip, stiffened, step);
+  const std::vector<twin::Material> with = dx::refit_starts(grip, stiffened, step, {}, std::nullopt, &start);
+  REQUIRE(without.size() == 6);
+  REQUIRE(with.size() == 9);
+  for (std::size_t k = 0; k < without.size(); ++k) {
+    CHECK(with[k].tensile_stiffness_u_N_m == without[k].tensile_stiffness_u_N_m);
+    CHECK(with[k].effects.clamp_grip_width_m == without[k].effects.clamp_grip_width_m);
+  }
+  for (std::size_t k = 6; k < with.size(); ++k) {
+    CHECK(with[k].tensile_stiffness_u_N_m == 6000.0);
+    CHECK(with[k].bending_rigidity_u_Nm == 8e-4);
+    CHECK(with[k].effects.clamp_grip_strength == 1.0);
+    CHECK(with[k].effects.clamp_grip_width_m == with[k - 3].effects.clamp_grip_width_m);
+  }
+  // Other effects start from the base fit only.
+  const dx::CandidateEffect& mass = dx::find_effect("marker_mass");
+  Eigen::VectorXd mass_step = Eigen::VectorXd::Zero(4);
+  mass_step(3) = 1.0;
+  CHECK(dx::refit_starts(mass, stiffened, mass_step, {}, std::nullopt, &start).size() ==
+        dx::refit_starts(mass, stiffened, mass_step).size());
+}
+
 TEST_CASE("profiled score values lie in their parameter's range", "[diagnosis][effects]") {
   for (const dx::CandidateEffect& e : dx::effect_library()) {
     if (!e.score_profile) continue;

@@ -132,6 +132,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     RefitOptions refit_options;
     refit_options.max_evaluations = o.refit_evaluations;
     refit_options.optimizer = o.optimizer;
+    refit_options.start_material = start;
     // Only candidates whose score test is significant can qualify (verdict.h): the others are
     // not refitted.
     const double alpha = kScoreAlpha / std::max<int>(1, static_cast<int>(order.size()));

@@ -36,7 +36,7 @@ struct DiagnoseOptions {
   std::string effects;                   // comma-separated candidate names; "" = all
   int refits = 3;                        // candidates refitted, best score first
   int base_evaluations = 80;             // budget of the base fit
-  int refit_evaluations = 60;            // budget of each refit
+  int refit_evaluations = RefitOptions{}.max_evaluations;  // budget of each start of a refit
   GradientOptimizer optimizer = kDiagnosisOptimizer;  // of the base fit and every refit
   std::function<void(const std::string&)> progress;  // progress lines (none when empty)
 };

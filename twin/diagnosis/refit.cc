@@ -59,7 +59,8 @@ std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& tria
 
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s,
-                                   const std::optional<ScoreProfilePoint>& profile) {
+                                   const std::optional<ScoreProfilePoint>& profile,
+                                   const Material* start_material) {
   std::vector<Material> starts{null_material(effect, base_fit)};
   // Where the score test linearised: the null material, with the profiled parameter at the
   // value whose statistic was taken.
@@ -107,12 +108,17 @@ std::vector<Material> refit_starts(const CandidateEffect& effect, const Material
   }
   if (effect.name == "clamp_grip") {
     // The width saturates (jaws wider than the first ring of vertices grip it whole) and the
-    // score test assumed the default: firm jaws at widths spread over the range.
-    for (double width_m : {0.025, 0.06, 0.12}) {
-      Material m = starts.front();
-      m.effects.clamp_grip_strength = 1.0;
-      m.effects.clamp_grip_width_m = width_m;
-      starts.push_back(m);
+    // score test assumed the default: firm jaws at widths spread over the range, on the base
+    // fit and on the base fit's own start (refit.h).
+    std::vector<Material> without_grip{starts.front()};
+    if (start_material) without_grip.push_back(null_material(effect, *start_material));
+    for (const Material& from : without_grip) {
+      for (double width_m : {0.025, 0.06, 0.12}) {
+        Material m = from;
+        m.effects.clamp_grip_strength = 1.0;
+        m.effects.clamp_grip_width_m = width_m;
+        starts.push_back(m);
+      }
     }
   }
   if (effect.name == "orthotropic_stiffness") {
@@ -149,7 +155,8 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
   Refit r;
   r.effect = effect.name;
   const std::vector<Material> starts =
-      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile);
+      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile,
+                   options.start_material ? &*options.start_material : nullptr);
   IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {
