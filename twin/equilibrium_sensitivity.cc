@@ -84,30 +84,32 @@ VecX force_parameter_derivative(ShellModel& model, const DofMap& dofs, const Vec
   MaterialRestorer restorer(model);
   Material plus = restorer.saved(), minus = restorer.saved();
   const ParameterScale scale = parameter_scale(parameter);
+  const double p = get_parameter(minus, parameter);
+  // The two sides of the difference, as each kind of parameter needs them.
+  double up = p, down = p;
   if (scale.logarithmic) {
-    // Central, unless a side would leave the parameter's range (a grip width the search has
-    // taken to its bound): then one-sided from the value itself, inside the range.
-    const double p = get_parameter(minus, parameter);
-    const double up = p * (1.0 + relative_step), down = p * (1.0 - relative_step);
-    set_parameter(plus, parameter, up <= scale.upper ? up : p);
-    set_parameter(minus, parameter, down >= scale.lower ? down : p);
+    up = p * (1.0 + relative_step);
+    down = p * (1.0 - relative_step);
   } else if (parameter == MaterialParameter::kClampSlipCompliance) {
     // The slip springs go as 1 / (c + c0) with c0 1e-5 of the parameter's scale: a
     // forward step relative to c + c0 keeps the difference's error at O(step).
-    const double c = get_parameter(minus, parameter);
-    set_parameter(plus, parameter, c + relative_step * (c + ClampSlipTerm::kRigidJawCompliance_m_N));
+    up = p + relative_step * (p + ClampSlipTerm::kRigidJawCompliance_m_N);
   } else {
     // Effect parameters may sit at their bound (0: the effect absent), where a central
     // difference would step out of the valid range. Their energies are linear in them
-    // (model_effects.h), so a forward difference of one scale step is exact up to rounding; at
-    // the upper bound (a relaxation fraction of 0.95) it steps backward instead.
-    const double p = get_parameter(minus, parameter), h = relative_step * scale.scale;
-    if (p + h <= scale.upper) {
-      set_parameter(plus, parameter, p + h);
-    } else {
-      set_parameter(minus, parameter, p - h);
-    }
+    // (model_effects.h), so a forward difference of one scale step is exact up to rounding.
+    up = p + relative_step * scale.scale;
   }
+  // One rule for every kind: a side that would leave the parameter's range (a value the search
+  // has taken to its bound: a grip width of 15 cm, a relaxation fraction of 0.95) is the value
+  // itself, and a forward difference at the upper bound steps backward instead.
+  if (up > scale.upper) {
+    if (down == p) down = p - (up - p);
+    up = p;
+  }
+  if (down < scale.lower) down = p;
+  set_parameter(plus, parameter, up);
+  set_parameter(minus, parameter, down);
   // The step actually taken, after rounding.
   const double step = get_parameter(plus, parameter) - get_parameter(minus, parameter);
   VecX g_plus, g_minus;

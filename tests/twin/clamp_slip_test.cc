@@ -124,14 +124,15 @@ TEST_CASE("clamp slip: a hanging strip slips by the compliance times its weight"
 
 TEST_CASE("clamp slip: the equilibrium's tangent in the compliance matches re-solved equilibria",
           "[twin][clamp_slip]") {
-  // At zero compliance (the score test's point) and at a present one.
-  for (double compliance_m_N : {0.0, 1e-5, 0.01}) {
+  // At zero compliance (the score test's point), at present ones, and at the upper bound,
+  // where the difference of dg/dc must step backward: a forward step was out of range.
+  for (double compliance_m_N : {0.0, 1e-5, 0.01, kMaxClampSlipCompliance_m_N}) {
     HeldStrip s(compliance_m_N, inclined());
     const VecX x0 = s.solve();
     const DofMap dofs = s.model.hold_clamps(s.clamps, s.poses);
     EquilibriumSensitivity sensitivity(s.model, dofs, x0);
     const Eigen::MatrixXd tangent = sensitivity.tangents({MaterialParameter::kClampSlipCompliance});
-    const double step_m_N = 1e-5;
+    const double step_m_N = compliance_m_N < kMaxClampSlipCompliance_m_N ? 1e-5 : -1e-5;
     HeldStrip moved(compliance_m_N + step_m_N, inclined());
     const VecX x1 = moved.solve();
     const VecX secant = (x1 - x0) / step_m_N;
