@@ -4,9 +4,10 @@
 
 namespace twin {
 
-std::optional<std::size_t> continuation_start(const std::vector<EvaluatedMaterial>& evaluated,
-                                              const Eigen::VectorXd& target, double one_step, double reach) {
-  std::optional<std::size_t> nearest, best_within_step;
+ContinuationStarts continuation_starts(const std::vector<EvaluatedMaterial>& evaluated, const Eigen::VectorXd& target,
+                                       double one_step, double reach) {
+  ContinuationStarts out;
+  std::optional<std::size_t> best_within_step;
   double nearest_distance = reach;
   for (std::size_t i = 0; i < evaluated.size(); ++i) {
     const EvaluatedMaterial& e = evaluated[i];
@@ -16,16 +17,17 @@ std::optional<std::size_t> continuation_start(const std::vector<EvaluatedMateria
       best_within_step = i;
     }
     bool better = d <= nearest_distance;
-    if (nearest) {
+    if (out.nearest) {
       const bool tie = std::abs(d - nearest_distance) <= 1e-12;
-      better = tie ? e.sum_squares_m2 < evaluated[*nearest].sum_squares_m2 : d < nearest_distance;
+      better = tie ? e.sum_squares_m2 < evaluated[*out.nearest].sum_squares_m2 : d < nearest_distance;
     }
     if (better) {
       nearest_distance = d;
-      nearest = i;
+      out.nearest = i;
     }
   }
-  return best_within_step ? best_within_step : nearest;
+  if (best_within_step != out.nearest) out.best_nearby = best_within_step;
+  return out;
 }
 
 }  // namespace twin

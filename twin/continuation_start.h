@@ -1,5 +1,5 @@
 #pragma once
-// Which earlier evaluation a new material's equilibria are continued from (trial_evaluator.h):
+// Which earlier evaluations a new material's equilibria are continued from (trial_evaluator.h):
 // a choice among the materials evaluated before, by their distance in search coordinates and
 // by how well their equilibria fit the scans.
 
@@ -16,17 +16,23 @@ struct EvaluatedMaterial {
   double sum_squares_m2 = 0.0;  // misfit of its equilibria to the scans
 };
 
-// The index of the material to continue from, or none when every one is farther than `reach`
-// (max-norm distance; then the trial is simulated afresh) or has another parameter list.
-// Within `one_step` of the target, the best-fitting material is chosen, not the nearest: an
-// optimiser that rejects a trial point (its continuation crossed onto a worse branch) tries a
-// shorter step next, which lies nearer the rejected point than the accepted one. Continuing
-// from the rejected point carried its branch back in, every shorter step was rejected too,
-// and Levenberg-Marquardt stopped on tiny gains between the rejections (clamp-grip refits of
-// blind set 7001: accepted 8.2 mm, then two rejected at 10.1-10.2 mm, over and over; held-out
-// 12.1 mm, 2.1 mm with this rule). Farther out, the nearest is chosen, and of equally near
-// ones (the same material continued and simulated afresh) the better fit.
-std::optional<std::size_t> continuation_start(const std::vector<EvaluatedMaterial>& evaluated,
-                                              const Eigen::VectorXd& target, double one_step, double reach);
+struct ContinuationStarts {
+  // The nearest material within `reach` (max-norm distance) with the same parameter list; of
+  // equally near ones (the same material continued, and simulated afresh) the better fit. None:
+  // simulate afresh.
+  std::optional<std::size_t> nearest;
+  // The best-fitting material within one material step, when that is not `nearest`. An
+  // optimiser that rejects a trial point (its continuation crossed onto a worse branch) tries a
+  // shorter step next, which lies nearer the rejected point than the accepted one: continued
+  // from the rejected point alone, it carried the worse branch back in, every shorter step was
+  // rejected too, and Levenberg-Marquardt stopped on tiny gains between the rejections
+  // (clamp-grip refits of blind set 7001: accepted 8.2 mm, then two rejected at 10.1-10.2 mm,
+  // over and over). Continued from this one alone, other refits lost the branch the nearest
+  // would have kept (blind set 4001). Both are continued, and the better fit is kept.
+  std::optional<std::size_t> best_nearby;
+};
+
+ContinuationStarts continuation_starts(const std::vector<EvaluatedMaterial>& evaluated, const Eigen::VectorXd& target,
+                                       double one_step, double reach);
 
 }  // namespace twin

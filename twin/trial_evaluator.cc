@@ -120,13 +120,12 @@ std::vector<ClampPose> TrialEvaluator::stage_poses(int stage) const {
   return poses;
 }
 
-const TrialEvaluator::CachedEquilibria* TrialEvaluator::continuation_cached(const VecX& coordinates) const {
+ContinuationStarts TrialEvaluator::continuation_cached(const VecX& coordinates) const {
   std::vector<EvaluatedMaterial> evaluated;
   evaluated.reserve(cache_.size());
   for (const CachedEquilibria& c : cache_) evaluated.push_back({c.coordinates, c.sum_squares_m2});
   const double one_step = std::log(kMaterialStepRatio);
-  const std::optional<std::size_t> k = continuation_start(evaluated, coordinates, one_step, one_step * kMaxMaterialSteps);
-  return k ? &cache_[*k] : nullptr;
+  return continuation_starts(evaluated, coordinates, one_step, one_step * kMaxMaterialSteps);
 }
 
 bool TrialEvaluator::simulate_warm(const CachedEquilibria& start, const Material& target,
@@ -366,17 +365,36 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   const VecX coordinates = search_coordinates(material, parameters);
   bool simulated = false;
   double start_sum_squares_m2 = 0.0;
-  if (const CachedEquilibria* cached = fresh ? nullptr : continuation_cached(coordinates)) {
-    start_sum_squares_m2 = cached->sum_squares_m2;
-    simulated = simulate_warm(*cached, used, parameters, fit);
-    fit.warm_started = simulated;
+  const ContinuationStarts starts = fresh ? ContinuationStarts{} : continuation_cached(coordinates);
+  if (starts.nearest) {
+    start_sum_squares_m2 = cache_[*starts.nearest].sum_squares_m2;
+    simulated = simulate_warm(cache_[*starts.nearest], used, parameters, fit);
+    if (simulated) score(fit);
   }
-  if (!simulated && !simulate_cold(fit)) {
-    if (fit.failure.empty()) fit.failure = "the simulation did not converge";
-    fit.stages.clear();
-    return finish();
+  if (starts.best_nearby) {
+    // Also from the best fit within one material step; the better continuation is kept.
+    TrialFit other;
+    if (simulate_warm(cache_[*starts.best_nearby], used, parameters, other)) {
+      score(other);
+      if (!simulated || other.sum_squares_m2 < fit.sum_squares_m2) {
+        other.newton_iterations += fit.newton_iterations;
+        fit = std::move(other);
+        start_sum_squares_m2 = cache_[*starts.best_nearby].sum_squares_m2;
+        simulated = true;
+      } else {
+        fit.newton_iterations += other.newton_iterations;
+      }
+    }
   }
-  score(fit);
+  fit.warm_started = simulated;
+  if (!simulated) {
+    if (!simulate_cold(fit)) {
+      if (fit.failure.empty()) fit.failure = "the simulation did not converge";
+      fit.stages.clear();
+      return finish();
+    }
+    score(fit);
+  }
   if (fit.warm_started && fit.sum_squares_m2 > kBranchCheckRatio * start_sum_squares_m2) {
     // Continued equilibria that fit far worse than those they started from may have been
     // carried onto a branch the scans would not choose (seen fitting marker mass and bending
@@ -399,8 +417,8 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   if (fresh) {
     // A fresh simulation that fits better than the equilibria continued to this material is on
     // a better branch: continuing from the old ones nearby would carry the worse one on.
-    const CachedEquilibria* continued = continuation_cached(coordinates);
-    if (continued && fit.sum_squares_m2 < continued->sum_squares_m2) cache_.clear();
+    const ContinuationStarts continued = continuation_cached(coordinates);
+    if (continued.nearest && fit.sum_squares_m2 < cache_[*continued.nearest].sum_squares_m2) cache_.clear();
   }
   CachedEquilibria entry{coordinates, fit.sum_squares_m2, {}};
   for (const StageFit& s : fit.stages) entry.stage_x.push_back(s.x);

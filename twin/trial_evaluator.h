@@ -31,8 +31,9 @@
 // 1.54, 3.79 mm with it on 300 triangles, whose path took 0.6-0.9 s. If a stage then has no
 // equilibrium, or a stage is seen only as a cloud (no tether), the path runs on the twin as before.
 // Later evaluations start every stage from the equilibrium
-// of a material evaluated before (continuation_start.h: the best-fitting one within one
-// material step, else the nearest) and carry it to the new material in steps of at
+// of the nearest material evaluated before, and also from the best-fitting one within one
+// material step when that is another (continuation_start.h; the better fit is kept), and
+// carry it to the new material in steps of at
 // most a factor kMaterialStepRatio in every varied parameter (continuation in the material
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
 // stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
@@ -52,6 +53,7 @@
 #include <Eigen/Core>
 
 #include "twin/clamp.h"
+#include "twin/continuation_start.h"
 #include "twin/equilibrium_sensitivity.h"
 #include "twin/marker_error.h"
 #include "twin/material_parameters.h"
@@ -140,7 +142,7 @@ class TrialEvaluator {
     double sum_squares_m2 = 0.0;  // their misfit: of equally near entries, the better fit starts
     std::vector<VecX> stage_x;
   };
-  const CachedEquilibria* continuation_cached(const VecX& coordinates) const;
+  ContinuationStarts continuation_cached(const VecX& coordinates) const;
   bool simulate_warm(const CachedEquilibria& start, const Material& target,
                      const std::vector<MaterialParameter>& parameters, TrialFit& fit);
   bool simulate_cold(TrialFit& fit, bool coarse_path_allowed = true);
