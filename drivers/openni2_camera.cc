@@ -36,10 +36,18 @@ ParsedUri parse_uri(const std::string& uri) {
   return parsed;
 }
 
-// Debian's OniFile player thread walks its stream list without a lock and spins while a stream is
-// started (e.g. at the end of a recording), so destroying a stream under it crashed in about 1 of
-// 50 closes here. With every stream stopped the thread idles in 10 ms sleeps; close_device()
-// waits this long for it to get there before destroying the streams.
+// Drivers' stream threads can outlive stop(): close_device() waits this long after stopping the
+// streams before it destroys them.
+// - Debian's OniFile player thread walks its stream list without a lock and spins while a stream
+//   is started (e.g. at the end of a recording), so destroying a stream under it crashed in about
+//   1 of 50 closes here; with every stream stopped it idles in 10 ms sleeps (30 ms waited).
+// - Debian's DummyDevice stops a stream by setting a flag its thread reads after each frame's
+//   sleep (33 ms at 30 fps), without joining the thread, and destroy() frees the stream under it:
+//   the Dummy device's openni2 test crashed (SIGSEGV in libDummyDevice) in 3 of 30 runs of the
+//   openni2 tests at ctest -j4, 2026-11-27. Three frame periods are waited for every device,
+//   except when a lost device is reopened: its streams died with it, and a cyclic reader must
+//   not block there.
+constexpr std::chrono::milliseconds kStopSettle{100};
 constexpr std::chrono::milliseconds kPlaybackStopSettle{30};
 
 class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDisconnectedListener {
@@ -208,12 +216,18 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
     return DriverResult::success();
   }
 
-  void close_device() {
-    // Stop both streams before destroying either (see kPlaybackStopSettle).
+  enum class Settle { kDriverThreads, kPlaybackOnly };
+  void close_device(Settle settle = Settle::kDriverThreads) {
+    // Stop both streams before destroying either, and let the drivers' threads see it (kStopSettle).
     const bool playback = device_.isValid() && device_.isFile();
+    const bool streams = depth_.isValid() || color_.isValid();
     if (depth_.isValid()) depth_.stop();
     if (color_.isValid()) color_.stop();
-    if (playback) std::this_thread::sleep_for(kPlaybackStopSettle);
+    if (streams && settle == Settle::kDriverThreads) {
+      std::this_thread::sleep_for(kStopSettle);
+    } else if (playback) {
+      std::this_thread::sleep_for(kPlaybackStopSettle);
+    }
     if (depth_.isValid()) depth_.destroy();
     if (color_.isValid()) color_.destroy();
     if (device_.isValid()) device_.close();
@@ -242,11 +256,11 @@ class OpenNI2Camera final : public DepthCamera, private openni::OpenNI::DeviceDi
       ++health_.reopen_attempts;
       lost_reason = health_.message;
     }
-    close_device();
+    close_device(Settle::kPlaybackOnly);
     DriverResult result = open_device();
     if (result.ok) result = start_streams();
     if (!result.ok) {
-      close_device();
+      close_device(Settle::kPlaybackOnly);
       const auto cut = lost_reason.find("; reopen failed");
       if (cut != std::string::npos) lost_reason.resize(cut);
       set_state(CameraState::kLost, lost_reason + "; reopen failed: " + result.message);
