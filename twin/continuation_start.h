@@ -27,8 +27,10 @@ struct ContinuationStarts {
   // from the rejected point alone, it carried the worse branch back in, every shorter step was
   // rejected too, and Levenberg-Marquardt stopped on tiny gains between the rejections
   // (clamp-grip refits of blind set 7001: accepted 8.2 mm, then two rejected at 10.1-10.2 mm,
-  // over and over). Continued from this one alone, other refits lost the branch the nearest
-  // would have kept (blind set 4001). Both are continued, and the better fit is kept.
+  // over and over). Continued from this one alone, a refit's path can lose a branch the nearest
+  // would have kept, so both are continued and the better fit is kept. (Neither rule makes a
+  // path through the branches safe: blind set 4001's nonlinear-bending refit found the truth
+  // with the nearest alone, and ends on another equilibrium with this one alone or with both.)
   std::optional<std::size_t> best_nearby;
 };
 
