@@ -366,26 +366,23 @@ TrialFit TrialEvaluator::evaluate(const Material& material, const std::vector<Ma
   bool simulated = false;
   double start_sum_squares_m2 = 0.0;
   const ContinuationStarts starts = fresh ? ContinuationStarts{} : continuation_cached(coordinates);
-  if (starts.nearest) {
-    start_sum_squares_m2 = cache_[*starts.nearest].sum_squares_m2;
-    simulated = simulate_warm(cache_[*starts.nearest], used, parameters, fit);
-    if (simulated) score(fit);
-  }
-  if (starts.best_nearby) {
-    // Also from the best fit within one material step; the better continuation is kept.
-    TrialFit other;
-    if (simulate_warm(cache_[*starts.best_nearby], used, parameters, other)) {
-      score(other);
-      if (!simulated || other.sum_squares_m2 < fit.sum_squares_m2) {
-        other.newton_iterations += fit.newton_iterations;
-        fit = std::move(other);
-        start_sum_squares_m2 = cache_[*starts.best_nearby].sum_squares_m2;
-        simulated = true;
-      } else {
-        fit.newton_iterations += other.newton_iterations;
-      }
+  // From the nearest evaluation, and from the best fit within one material step when that is
+  // another; the better continuation is kept.
+  int newton_iterations = 0;
+  for (const std::optional<std::size_t>& k : {starts.nearest, starts.best_nearby}) {
+    if (!k) continue;
+    TrialFit continued;
+    const bool ok = simulate_warm(cache_[*k], used, parameters, continued);
+    newton_iterations += continued.newton_iterations;
+    if (!ok) continue;
+    score(continued);
+    if (!simulated || continued.sum_squares_m2 < fit.sum_squares_m2) {
+      fit = std::move(continued);
+      start_sum_squares_m2 = cache_[*k].sum_squares_m2;
+      simulated = true;
     }
   }
+  fit.newton_iterations = newton_iterations;
   fit.warm_started = simulated;
   if (!simulated) {
     if (!simulate_cold(fit)) {

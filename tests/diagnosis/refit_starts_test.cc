@@ -104,7 +104,7 @@ TEST_CASE("clamp grip refits also start with firm jaws from the base fit's own s
   start.effects.clamp_grip_strength = 0.5;  // a start file may carry the effect: it is replaced
 
   const std::vector<twin::Material> without = dx::refit_starts(grip, stiffened, step);
-  const std::vector<twin::Material> with = dx::refit_starts(grip, stiffened, step, {}, std::nullopt, &start);
+  const std::vector<twin::Material> with = dx::refit_starts(grip, stiffened, step, {}, std::nullopt, start);
   REQUIRE(without.size() == 6);
   REQUIRE(with.size() == 9);
   for (std::size_t k = 0; k < without.size(); ++k) {
@@ -121,7 +121,7 @@ TEST_CASE("clamp grip refits also start with firm jaws from the base fit's own s
   const dx::CandidateEffect& mass = dx::find_effect("marker_mass");
   Eigen::VectorXd mass_step = Eigen::VectorXd::Zero(4);
   mass_step(3) = 1.0;
-  CHECK(dx::refit_starts(mass, stiffened, mass_step, {}, std::nullopt, &start).size() ==
+  CHECK(dx::refit_starts(mass, stiffened, mass_step, {}, std::nullopt, start).size() ==
         dx::refit_starts(mass, stiffened, mass_step).size());
 }
 

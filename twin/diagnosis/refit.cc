@@ -60,7 +60,7 @@ std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& tria
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s,
                                    const std::optional<ScoreProfilePoint>& profile,
-                                   const Material* start_material) {
+                                   const std::optional<Material>& start_material) {
   std::vector<Material> starts{null_material(effect, base_fit)};
   // Where the score test linearised: the null material, with the profiled parameter at the
   // value whose statistic was taken.
@@ -155,8 +155,7 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
   Refit r;
   r.effect = effect.name;
   const std::vector<Material> starts =
-      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile,
-                   options.start_material ? &*options.start_material : nullptr);
+      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile, options.start_material);
   IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
   int count = 0;
   if (progress) {

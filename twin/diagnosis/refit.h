@@ -95,7 +95,7 @@ struct RefitOptions {
 std::vector<Material> refit_starts(const CandidateEffect& effect, const Material& base_fit,
                                    const Eigen::VectorXd& step, const std::vector<double>& stage_ages_s = {},
                                    const std::optional<ScoreProfilePoint>& profile = std::nullopt,
-                                   const Material* start_material = nullptr);
+                                   const std::optional<Material>& start_material = std::nullopt);
 
 // The finite load ages (s) of the trials' marker stages.
 std::vector<double> marker_stage_ages_s(const std::vector<TrialEvaluator*>& trials);
