@@ -6,8 +6,10 @@
 
 #include <sys/wait.h>
 
+#include <array>
 #include <cstdlib>
 #include <fstream>
+#include <string>
 #include <thread>
 
 #include <catch2/catch.hpp>
@@ -91,20 +93,42 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   REQUIRE(reader.configure(v4l2).ok);
   REQUIRE(reader.activate().ok);
   world.start();
+  // frames counts every frame handed out: a stale one (rendered late on a loaded machine) is
+  // still a frame the device delivered.
   std::atomic<int> frames{0}, valid_pixels{0}, lost{0};
+  std::array<std::atomic<int>, static_cast<std::size_t>(drivers::ReadStatus::kCorrupt) + 1> by_status{};
   std::atomic<bool> reading{true};
   std::thread read_thread([&] {
     drivers::DepthFrame f;
     while (reading) {
       const drivers::ReadStatus status = reader.read(f);
+      ++by_status.at(static_cast<std::size_t>(status));
       if (status == drivers::ReadStatus::kLost) ++lost;
-      if (status != drivers::ReadStatus::kFrame) continue;
+      if (status != drivers::ReadStatus::kFrame && status != drivers::ReadStatus::kStale &&
+          status != drivers::ReadStatus::kFrozen)
+        continue;
       ++frames;
       int n = 0;
       for (auto d : f.depth_mm) n += d > 0;
       valid_pixels = n;
     }
   });
+  const auto reads = [&] {
+    std::string text;
+    for (std::size_t i = 0; i < by_status.size(); ++i)
+      text += std::string(drivers::to_string(static_cast<drivers::ReadStatus>(i))) + " " +
+              std::to_string(by_status[i]) + "; ";
+    return text + "rig rendered " + std::to_string(world.snapshot().camera_frames.front().second);
+  };
+  // A failed REQUIRE unwinds through here: stop and join the reader rather than terminate.
+  struct StopReader {
+    std::atomic<bool>& reading;
+    std::thread& thread;
+    ~StopReader() {
+      reading = false;
+      if (thread.joinable()) thread.join();
+    }
+  } stop_reader{reading, read_thread};
 
   world.run_for(0.5s);
   REQUIRE_FALSE(left.empty());
@@ -167,17 +191,24 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   CHECK(left_count > 100);  // 100 Hz over ~1.6 s
 
   // A dead camera: its nodes are unplugged and the reader sees the device lost; cleared, it
-  // comes back and frames arrive again.
-  const int frames_before_dead = frames;
+  // comes back and frames arrive again. First the reader must be getting frames (a sanitizer on
+  // a loaded machine renders slowly). Frames already in the reader's buffers, or rendered before
+  // the fault landed, may still arrive after it is sent (a loaded CI machine saw two); none may
+  // once the reader has seen the device lost.
+  for (int i = 0; i < 40 && frames < 2; ++i) world.run_for(0.2s);
+  INFO("reads before the fault: " << reads());
+  REQUIRE(frames >= 2);
   prepreg_lcm::sim_fault_t dead{};
   dead.target = "cam_front";
   dead.fault = "dead";
   dead.active = true;
   bus.publish("SIM_FAULT", dead);
-  world.run_for(0.8s);
-  CHECK(lost > 0);
-  const int frames_while_dead = frames - frames_before_dead;
-  CHECK(frames_while_dead <= 1);  // at most one already in flight
+  for (int i = 0; i < 160 && lost == 0; ++i) world.run_for(0.05s);
+  INFO("reads after the fault: " << reads());
+  REQUIRE(lost > 0);
+  const int frames_after_lost = frames;
+  world.run_for(0.6s);
+  CHECK(frames == frames_after_lost);
   dead.active = false;
   bus.publish("SIM_FAULT", dead);
   const int frames_at_clear = frames;
@@ -201,7 +232,7 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   CHECK(s.physics.failures == 0);
   CHECK(s.holding.size() == 3);  // all but MANUAL
   CHECK(s.counters.gripper_commands == 1);
-  CHECK(frames >= 3);  // 6 fps over ~1.6 s; fewer under a sanitizer, as rendering is slower
+  CHECK(frames >= 4);  // two before the fault, two after it cleared
   CHECK(valid_pixels > 848 * 480 / 4);  // it sees the sheet, table and floor
   CHECK(s.camera_frames.size() == 3);
   for (const auto& [name, n] : s.camera_frames) CHECK(n >= 5);
