@@ -45,6 +45,7 @@ struct DiagnoseOutcome {
   Verdict verdict;
   double sigma_m = 0.0;
   bool sigma_estimated = false;
+  std::string sigma_source;    // when estimated: the fit whose training residuals gave it
   double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
   SetScore base_train, base_test;
   // With the named effect (verdict "effect"), or the closest candidate ("unexplained"):

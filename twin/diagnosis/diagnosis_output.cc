@@ -60,6 +60,7 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
   j["noise_floor_mm"] = 1e3 * o.noise_floor_m;
   j["noise_sigma_mm"] = 1e3 * o.sigma_m;
   j["noise_estimated"] = o.sigma_estimated;
+  j["noise_estimated_on"] = o.sigma_estimated ? nlohmann::json(o.sigma_source) : nlohmann::json(nullptr);
   j["held_out"] = before_after(o.base_test, o.after_test, effect);
   j["train"] = before_after(o.base_train, o.after_train, effect);
   j["base_branch_of"] = record.base_branch_of ? nlohmann::json(*record.base_branch_of) : nlohmann::json(nullptr);
@@ -119,6 +120,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
   data.verdict_line = v.summary;  // begins with what the verdict is
   data.noise_floor_m = o.sigma_m;
   data.noise_estimated = o.sigma_estimated;
+  data.noise_source = o.sigma_source;
   data.parameters.header = {"parameter", "value", "lower 95 %", "upper 95 %", "determined"};
   for (const ParameterEstimate& e : effect ? o.parameters : record.base.estimates) {
     data.parameters.rows.push_back({std::string(parameter_name(e.parameter)), general(e.value), general(e.lower95),
@@ -141,7 +143,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
   data.notes = v.reasons;
   data.notes.push_back(fmt::format("noise sigma {:.3f} mm per coordinate ({}); noise floor of the mean "
                                    "correspondence error {:.3f} mm",
-                                   1e3 * o.sigma_m, o.sigma_estimated ? "estimated from the training residuals" : "given",
+                                   1e3 * o.sigma_m, o.sigma_estimated ? "estimated on " + o.sigma_source : std::string("given"),
                                    1e3 * o.noise_floor_m));
   data.notes.push_back(fmt::format("candidates considered: {}; base fit {} ({} evaluations)", candidates.size(),
                                    record.base.stop_reason, record.base.evaluations));

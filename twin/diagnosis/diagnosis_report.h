@@ -42,6 +42,7 @@ struct ReportData {
   std::string after_label = "after";     // what "after" is, e.g. "with orthotropic_stiffness"
   double noise_floor_m = 0.0;            // sigma used (m)
   bool noise_estimated = false;          // estimated from the residuals, not given
+  std::string noise_source;              // when estimated: the fit whose residuals gave it
   ReportTable parameters;                // fitted parameters with intervals
   ReportTable candidates;                // the candidate ranking
   std::vector<std::string> notes;        // evidence and inputs, one line each
