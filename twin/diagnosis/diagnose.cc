@@ -190,10 +190,10 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   // 5. The noise once more, on each refit's training residuals. Model error only inflates the
   // estimate (noise_estimate.h) and every fit's residuals hold the same scanner noise, so the
   // fit that leaves the least model error gives the truest figure. Seen on the blind clamp-grip
-  // sets: the base fit's residual (RMS about 25 mm) read 0.57-0.59 mm for a true 0.3 mm, which
-  // made the noise floor, and every chi-square, twice too lenient. The score tests that chose
-  // which candidates to refit keep the first estimate: a smaller sigma would only make them
-  // more significant.
+  // sets: the base fit's residuals (mean marker error 20-23 mm) read 0.57-0.63 mm for a true
+  // 0.3 mm, which made the noise floor, and every chi-square, twice too lenient. The score tests
+  // that chose which candidates to refit keep the first estimate: a smaller sigma would only
+  // make them more significant.
   if (out.sigma_estimated) {
     for (const Refit& r : record.refits) {
       if (!r.usable()) continue;

@@ -119,8 +119,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
   ReportData data;
   data.verdict_line = v.summary;  // begins with what the verdict is
   data.noise_floor_m = o.sigma_m;
-  data.noise_estimated = o.sigma_estimated;
-  data.noise_source = o.sigma_source;
+  data.noise_source = o.sigma_estimated ? o.sigma_source : "";
   data.parameters.header = {"parameter", "value", "lower 95 %", "upper 95 %", "determined"};
   for (const ParameterEstimate& e : effect ? o.parameters : record.base.estimates) {
     data.parameters.rows.push_back({std::string(parameter_name(e.parameter)), general(e.value), general(e.lower95),

@@ -119,7 +119,7 @@ void write_markdown(const ReportData& data, const fs::path& path) {
     md << "# " << data.title << "\n\n**Verdict:** " << data.verdict_line << "\n\n";
     md << fmt::format("Noise floor: sigma = {:.3f} mm per coordinate ({}); a perfect twin's mean marker error is "
                       "{:.3f} mm.\n",
-                      1e3 * data.noise_floor_m, data.noise_estimated ? "estimated on " + data.noise_source : std::string("given"),
+                      1e3 * data.noise_floor_m, data.noise_source.empty() ? std::string("given") : "estimated on " + data.noise_source,
                       1e3 * noise_floor_mean_error_m(data.noise_floor_m));
     if (!data.parameters.empty()) md << "\n## Fitted parameters\n\n" << markdown_table(data.parameters);
     if (!data.candidates.empty()) md << "\n## Candidate effects\n\n" << markdown_table(data.candidates);

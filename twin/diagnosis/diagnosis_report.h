@@ -41,8 +41,7 @@ struct ReportData {
   std::string verdict_line;              // e.g. "effect: orthotropic_stiffness (...)"
   std::string after_label = "after";     // what "after" is, e.g. "with orthotropic_stiffness"
   double noise_floor_m = 0.0;            // sigma used (m)
-  bool noise_estimated = false;          // estimated from the residuals, not given
-  std::string noise_source;              // when estimated: the fit whose residuals gave it
+  std::string noise_source;              // empty when given; else the fit whose residuals gave it
   ReportTable parameters;                // fitted parameters with intervals
   ReportTable candidates;                // the candidate ranking
   std::vector<std::string> notes;        // evidence and inputs, one line each

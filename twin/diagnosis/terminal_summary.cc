@@ -59,7 +59,7 @@ std::string terminal_summary(const ReportData& data) {
   add(data.title);
   add("Verdict: " + data.verdict_line);
   add(fmt::format("Noise floor: sigma {:.3f} mm per coordinate ({}), perfect-twin mean error {:.3f} mm",
-                  1e3 * data.noise_floor_m, data.noise_estimated ? "estimated" : "given",
+                  1e3 * data.noise_floor_m, data.noise_source.empty() ? "given" : "estimated",
                   1e3 * data.noise_floor_m * std::sqrt(8.0 / std::numbers::pi)));
   for (const ReportPhase& p : data.phases) {
     std::string line = fmt::format("{}: mean error {:.3f} mm, {}/{} stages and {} regions significant", p.name,
