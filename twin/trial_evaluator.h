@@ -30,11 +30,10 @@
 // equilibria's marker error): 5.45, 2.21, 1.56, 3.77 mm with the path on the twin; 5.49, 2.17,
 // 1.54, 3.79 mm with it on 300 triangles, whose path took 0.6-0.9 s. If a stage then has no
 // equilibrium, or a stage is seen only as a cloud (no tether), the path runs on the twin as before.
-// Later evaluations start every stage from the equilibrium
-// of the nearest material evaluated before, and also from the best-fitting one within one
-// material step when that is another (continuation_start.h; the better fit is kept), and
-// carry it to the new material in steps of at
-// most a factor kMaterialStepRatio in every varied parameter (continuation in the material
+// Later evaluations start every stage from the equilibrium of the nearest material evaluated
+// before, and also from the best-fitting one within one material step when that is another
+// (continuation_start.h; the better fit is kept), and carry it to the new material in steps of
+// at most a factor kMaterialStepRatio in every varied parameter (continuation in the material
 // instead of in the clamps: a few Newton iterations per step instead of a whole trial, and it
 // stays on the branch chosen by the scan). If a step fails, or more than kMaxMaterialSteps
 // would be needed, the trial is simulated afresh; also when the continued misfit is more than
