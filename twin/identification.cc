@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -28,11 +29,35 @@ VecX IdentificationProblem::coordinates_of(const Material& material) const {
   return v;
 }
 
+void IdentificationProblem::set_stage_weights(std::vector<std::vector<double>> weights) {
+  if (!weights.empty() && weights.size() != training_.size()) {
+    throw std::invalid_argument(fmt::format("stage weights: expected one list per training trial ({}), got {}",
+                                            training_.size(), weights.size()));
+  }
+  for (const std::vector<double>& trial : weights) {
+    for (double w : trial) {
+      if (!(w > 0.0 && w <= 1.0)) throw std::invalid_argument(fmt::format("stage weights: expected (0, 1], got {}", w));
+    }
+  }
+  stage_weights_ = std::move(weights);
+}
+
+double IdentificationProblem::stage_weight(std::size_t trial, int stage) const {
+  if (stage_weights_.empty()) return 1.0;
+  const std::vector<double>& w = stage_weights_[trial];
+  return stage >= 0 && static_cast<std::size_t>(stage) < w.size() ? w[stage] : 1.0;
+}
+
 IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& coordinates, Derivatives derivatives,
                                                                   double max_weight, bool fresh) {
   const auto start = std::chrono::steady_clock::now();
+  const bool weighted = !stage_weights_.empty();
+  if (weighted && derivatives == Derivatives::kGradient) {
+    throw std::logic_error("identification with stage weights needs the Jacobian (Levenberg-Marquardt), not the adjoint gradient");
+  }
   Evaluation e;
   const Material material = material_at(coordinates);
+  double weight_sum = 0.0;  // sum of the residuals' weights (their count when unweighted)
   double sum_squares = 0.0;
   std::vector<const TrialFit*> usable;
   for (TrialEvaluator* trial : training_) {
@@ -44,11 +69,21 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& co
       break;
     }
     e.nearest_score_m += fit.nearest_score_m(max_weight);
-    sum_squares += fit.sum_squares_m2;
     e.residual_count += fit.residual_count;
+    if (!weighted) {
+      sum_squares += fit.sum_squares_m2;
+      weight_sum += fit.residual_count;
+      continue;
+    }
+    const std::size_t t = e.fits.size() - 1;
+    for (Eigen::Index i = 0; i < fit.residuals_m.size(); ++i) {
+      const double w = stage_weight(t, fit.residual_blocks[i] / 4);  // block = stage * 4 + quarter
+      sum_squares += w * fit.residuals_m(i) * fit.residuals_m(i);
+      weight_sum += w;
+    }
   }
   if (e.usable() && e.residual_count > 0) {
-    e.mean_square_m2 = sum_squares / e.residual_count;
+    e.mean_square_m2 = sum_squares / weight_sum;
     if (derivatives != Derivatives::kNone) {
       e.coordinate_gradient = VecX::Zero(coordinates.size());
       for (const TrialFit& fit : e.fits) e.coordinate_gradient += fit.coordinate_gradient / e.residual_count;
@@ -62,9 +97,17 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& co
         const TrialFit& fit = e.fits[t];
         e.coordinate_jacobian.middleRows(row, fit.residual_count) = fit.coordinate_jacobian;
         e.residuals_m.segment(row, fit.residual_count) = fit.residuals_m;
-        for (int b : fit.residual_blocks) e.residual_blocks.push_back(1000 * static_cast<int>(t) + b);
+        for (int i = 0; i < fit.residual_count; ++i) {
+          const int b = fit.residual_blocks[i];
+          e.residual_blocks.push_back(1000 * static_cast<int>(t) + b);
+          if (!weighted) continue;
+          const double root = std::sqrt(stage_weight(t, b / 4));
+          e.residuals_m(row + i) *= root;
+          e.coordinate_jacobian.row(row + i) *= root;
+        }
         row += fit.residual_count;
       }
+      if (weighted) e.coordinate_gradient = 2.0 * e.coordinate_jacobian.transpose() * e.residuals_m / weight_sum;
     }
   } else if (e.usable()) {
     e.failure = "no observation was scored (every marker hidden?)";

@@ -52,6 +52,16 @@ class IdentificationProblem {
   // trial_evaluator.h), instead of continuing the equilibria of earlier materials.
   void forget_warm_starts();
 
+  // Per training trial and per stage, the weight of the stage's squared residuals in the
+  // objective (empty: every weight 1). A robust refit (diagnosis/stage_weights.h) lowers the
+  // weight of a stage that sits on another fold, so that one stage cannot pull the fit off the
+  // material every other stage agrees on. With weights, residuals_m and the Jacobian's rows
+  // are scaled by sqrt(w), mean_square_m2 is sum w r^2 / sum w, and only Derivatives::kNone
+  // and kJacobian are available (the adjoint gradient is not split by stage): kGradient
+  // throws std::logic_error.
+  void set_stage_weights(std::vector<std::vector<double>> weights);
+  const std::vector<std::vector<double>>& stage_weights() const { return stage_weights_; }
+
   // Trial simulations run so far (one per training trial per evaluation).
   int simulations() const { return simulations_; }
   // Called after every evaluation (progress output).
@@ -61,7 +71,9 @@ class IdentificationProblem {
   std::vector<TrialEvaluator*> training_;
   Material base_;
   std::vector<MaterialParameter> parameters_;
+  std::vector<std::vector<double>> stage_weights_;
   int simulations_ = 0;
+  double stage_weight(std::size_t trial, int stage) const;
 };
 
 struct ParameterEstimate {

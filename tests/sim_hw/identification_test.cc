@@ -75,6 +75,47 @@ TEST_CASE("the adjoint gradient of the marker misfit matches finite differences"
   }
 }
 
+TEST_CASE("stage weights scale a stage's residuals, Jacobian rows and share of the misfit", "[sim_hw][identification]") {
+  twin::TrialEvaluator evaluator(lab_trial().trial, kTriangles, lab_trial().truth);
+  twin::IdentificationProblem problem({&evaluator}, start_material(0.8, 1.3, 1.2), kPaperParameters);
+  const VecX y = problem.coordinates_of(problem.base());
+  const auto plain = problem.evaluate(y, twin::Derivatives::kJacobian, 0.5);
+  INFO(plain.failure);
+  REQUIRE(plain.usable());
+  const std::size_t stages = plain.fits[0].stages.size();
+  REQUIRE(stages >= 2);
+  std::vector<double> w(stages, 1.0);
+  w[1] = 0.25;  // the second stage counts a quarter
+  problem.set_stage_weights({w});
+  const auto weighted = problem.evaluate(y, twin::Derivatives::kJacobian, 0.5);
+  REQUIRE(weighted.usable());
+  REQUIRE(weighted.residuals_m.size() == plain.residuals_m.size());
+  double squares = 0.0, weights = 0.0;
+  int in_stage = 0;
+  // The second evaluation continues the first's equilibria: equal to round-off of the solves.
+  const double jacobian_tolerance = 1e-6 * plain.coordinate_jacobian.cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < plain.residuals_m.size(); ++i) {
+    const double wi = plain.residual_blocks[i] / 4 == 1 ? 0.25 : 1.0;  // one trial: block = stage * 4 + quarter
+    in_stage += wi < 1.0;
+    CHECK(weighted.residuals_m(i) == Approx(std::sqrt(wi) * plain.residuals_m(i)));
+    CHECK((weighted.coordinate_jacobian.row(i) - std::sqrt(wi) * plain.coordinate_jacobian.row(i)).norm() <=
+          jacobian_tolerance);
+    squares += wi * plain.residuals_m(i) * plain.residuals_m(i);
+    weights += wi;
+  }
+  CHECK(in_stage > 0);
+  CHECK(weighted.mean_square_m2 == Approx(squares / weights));
+  const VecX gradient = 2.0 * weighted.coordinate_jacobian.transpose() * weighted.residuals_m / weights;
+  CHECK((weighted.coordinate_gradient - gradient).norm() <= 1e-12 * gradient.norm());
+  // The adjoint gradient is not split by stage, and weights are in (0, 1].
+  CHECK_THROWS_AS(problem.evaluate(y, twin::Derivatives::kGradient, 0.5), std::logic_error);
+  CHECK_THROWS_AS(problem.set_stage_weights({{1.0, 0.0}}), std::invalid_argument);
+  CHECK_THROWS_AS(problem.set_stage_weights({w, w}), std::invalid_argument);
+  // Without weights again, the plain misfit.
+  problem.set_stage_weights({});
+  CHECK(problem.evaluate(y, twin::Derivatives::kNone, 0.5).mean_square_m2 == Approx(plain.mean_square_m2));
+}
+
 TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "[sim_hw][identification]") {
   twin::Trial trial = lab_trial().trial;
   // The released stage, as the paper saw it: points without marker identities, shuffled.

@@ -45,6 +45,37 @@ std::string profile_note(const CandidateScore& s) {
                      s.profile->values_tried);
 }
 
+// The robust pass of a refit (Refit::RobustPass), or null when no stage was an outlier.
+nlohmann::json robust_json(const std::optional<Refit::RobustPass>& pass) {
+  if (!pass) return nullptr;
+  nlohmann::json stages = nlohmann::json::array();
+  for (const OutlierStage& o : pass->outliers) {
+    stages.push_back({{"trial", o.trial}, {"stage", o.stage}, {"rms_mm", 1e3 * o.rms_m}, {"ratio_to_median", o.ratio},
+                      {"weight", o.weight}});
+  }
+  const auto rms_mm = [](double m2) { return std::isfinite(m2) ? nlohmann::json(1e3 * std::sqrt(m2)) : nlohmann::json(nullptr); };
+  return {{"outlier_stages", stages},
+          {"least_squares_rms_mm", rms_mm(pass->least_squares_m2)},
+          {"robust_rms_mm", rms_mm(pass->robust_m2)},
+          {"kept", pass->kept}};
+}
+
+// One report line on a refit's robust pass.
+std::string robust_note(const Refit& r) {
+  std::string stages;
+  for (const OutlierStage& o : r.robust->outliers) {
+    stages += fmt::format("{}{}/{} ({:.1f}x)", stages.empty() ? "" : ", ", o.trial, o.stage, o.ratio);
+  }
+  const std::string outcome =
+      std::isfinite(r.robust->robust_m2)
+          ? fmt::format("fresh training RMS {:.3f} mm against least squares' {:.3f} mm: {}", 1e3 * std::sqrt(r.robust->robust_m2),
+                        1e3 * std::sqrt(r.robust->least_squares_m2), r.robust->kept ? "kept" : "not kept")
+          : std::string("it gave no result");
+  return fmt::format("refit {}: training stage(s) {} far above the median stage misfit; refitted with them "
+                     "down-weighted, then without weights: {}",
+                     r.effect, stages, outcome);
+}
+
 }  // namespace
 
 nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& record) {
@@ -87,7 +118,8 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
                                                 {"bic_base", record.base_bic},
                                                 {"train_mean_mm", 1e3 * r->train.mean_correspondence_m},
                                                 {"held_out_mean_mm", 1e3 * r->test.mean_correspondence_m},
-                                                {"held_out_rms_mm", 1e3 * r->test.rms_m()}}
+                                                {"held_out_rms_mm", 1e3 * r->test.rms_m()},
+                                                {"robust", robust_json(r->robust)}}
                                : nlohmann::json{{"failure", r->failure}};
     }
     j["candidates"].push_back(c);
@@ -146,6 +178,9 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
                                    1e3 * o.noise_floor_m));
   data.notes.push_back(fmt::format("candidates considered: {}; base fit {} ({} evaluations)", candidates.size(),
                                    record.base.stop_reason, record.base.evaluations));
+  for (const Refit& r : record.refits) {
+    if (r.robust) data.notes.push_back(robust_note(r));
+  }
   if (v.chosen) data.after_label = "with " + v.chosen->effect;
   auto phase = [&](const std::string& name, const ResidualField& before, const ResidualField* after) {
     ReportPhase p;

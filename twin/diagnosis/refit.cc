@@ -147,6 +147,79 @@ const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& bas
   return nullptr;
 }
 
+namespace {
+
+// Refit::RobustPass: `problem` holds no weights before and after.
+void robust_pass(IdentificationProblem& problem, const std::vector<Material>& starts,
+                 const std::vector<TrialEvaluator*>& training, double sigma_m, const RefitOptions& options,
+                 Refit& r, const std::function<void(const std::string&)>& progress) {
+  const IdentificationProblem::Evaluation plain =
+      problem.evaluate(r.result.coordinates, Derivatives::kNone, 0.5, /*fresh=*/true);
+  if (!plain.usable()) return;
+  std::vector<std::string> names;
+  for (const TrialEvaluator* t : training) names.push_back(std::filesystem::path(t->trial().directory).filename().string());
+  const StageWeights weights = outlier_stage_weights(plain, names);
+  if (weights.outliers.empty()) return;
+  if (!(weights.median_rms_m <= kRobustMedianNoiseRatio * sigma_m)) {
+    if (progress) {
+      progress(fmt::format("  refit {}: {} stage(s) far above the median stage misfit, but the median ({:.2f} mm "
+                           "RMS) is not at the noise: no robust pass",
+                           r.effect, weights.outliers.size(), 1e3 * weights.median_rms_m));
+    }
+    return;
+  }
+  Refit::RobustPass pass;
+  pass.outliers = weights.outliers;
+  pass.least_squares_m2 = plain.mean_square_m2;
+  if (progress) {
+    for (const OutlierStage& o : weights.outliers) {
+      progress(fmt::format("  refit {}: stage {}/{} at {:.1f}x the median stage misfit ({:.2f} mm RMS): "
+                           "refitting with it down-weighted", r.effect, o.trial, o.stage, o.ratio, 1e3 * o.rms_m));
+    }
+  }
+  GradientOptions gradient;
+  gradient.max_evaluations = options.max_evaluations;
+  gradient.optimizer = options.optimizer;
+  std::vector<VecX> from;
+  for (const Material& m : starts) from.push_back(problem.coordinates_of(m));
+  from.push_back(r.result.coordinates);
+  IdentificationResult weighted;
+  problem.set_stage_weights(weights.weights);
+  for (std::size_t k = 0; k < from.size(); ++k) {
+    if (progress) progress(fmt::format("  robust refit {} from start {} of {}", r.effect, k + 1, from.size()));
+    gradient.start_coordinates = from[k];
+    IdentificationResult result = identify_gradient(problem, gradient);
+    if (result.coordinates.size() == 0) continue;
+    if (weighted.coordinates.size() == 0 || result.objective < weighted.objective) weighted = std::move(result);
+  }
+  problem.set_stage_weights({});
+  if (weighted.coordinates.size() > 0) {
+    // The least-squares minimum in the basin the weighted fit found.
+    if (progress) progress(fmt::format("  robust refit {}: polishing without weights", r.effect));
+    gradient.start_coordinates = weighted.coordinates;
+    IdentificationResult polished = identify_gradient(problem, gradient);
+    if (polished.coordinates.size() == 0) polished = std::move(weighted);
+    const IdentificationProblem::Evaluation fresh =
+        problem.evaluate(polished.coordinates, Derivatives::kNone, 0.5, /*fresh=*/true);
+    if (fresh.usable()) {
+      pass.robust_m2 = fresh.mean_square_m2;
+      if (fresh.mean_square_m2 < plain.mean_square_m2) {
+        pass.kept = true;
+        polished.stop_reason += "; robust refit (stage weights) kept";
+        r.result = std::move(polished);
+      }
+    }
+  }
+  if (progress) {
+    progress(fmt::format("  robust refit {}: {:.3f} mm RMS fresh (least squares: {:.3f} mm), {}", r.effect,
+                         1e3 * std::sqrt(pass.robust_m2), 1e3 * std::sqrt(pass.least_squares_m2),
+                         pass.kept ? "kept" : "not kept"));
+  }
+  r.robust = std::move(pass);
+}
+
+}  // namespace
+
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
                       const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
@@ -183,6 +256,9 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
   if (r.result.coordinates.size() == 0) {
     r.failure = "no result: " + failures;
     return r;
+  }
+  if (options.robust_stages && options.optimizer == GradientOptimizer::kLevenbergMarquardt) {
+    robust_pass(problem, starts, training, sigma_m, options, r, progress);
   }
   // The uncertainty at the kept result: its equilibria, not the last start's.
   for (TrialEvaluator* t : training) t->clear_warm_starts();

@@ -18,6 +18,7 @@
 #include "twin/diagnosis/effect_library.h"
 #include "twin/diagnosis/residual_field.h"
 #include "twin/diagnosis/score_test.h"
+#include "twin/diagnosis/stage_weights.h"
 #include "twin/identification.h"
 
 namespace twin::diagnosis {
@@ -68,6 +69,8 @@ struct RefitOptions {
   // The material the base fit started from (refit_starts): unset, the refits start from the
   // base fit only.
   std::optional<Material> start_material;
+  // The robust pass below (Refit::RobustPass), with Levenberg-Marquardt only.
+  bool robust_stages = true;
 };
 
 // Where a refit starts. A hanging sheet's misfit has several local minima (equilibria change
@@ -109,6 +112,18 @@ struct Refit {
   SetScore train, test;
   ResidualField train_field, test_field;      // residuals with the refit material
   double information_criterion = 0.0;         // BIC above, on the training trials
+  // When a training stage of the least-squares refit, simulated fresh, sat above
+  // kOutlierStageRatio times the median stage's misfit, and the median stage was at the noise
+  // (kRobustMedianNoiseRatio, stage_weights.h): the refit was run
+  // again from every start with those stages down-weighted, polished without weights, and
+  // kept when its fresh training mean square was lower than the least-squares refit's.
+  struct RobustPass {
+    std::vector<OutlierStage> outliers;
+    double least_squares_m2 = 0.0;  // fresh training mean square per coordinate, least-squares refit
+    double robust_m2 = NAN;         // the same for the robust refit (NaN: it gave no result)
+    bool kept = false;
+  };
+  std::optional<RobustPass> robust;
   // The refit's material with the effect removed (null_material), continued on the refit's own
   // equilibria: an effect-free material on the branches the refit's simulations chose. When it
   // fits the training trials better than the base fit, the refit's gain was (partly) a better
@@ -125,7 +140,8 @@ struct Refit {
 const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& base_train, double sigma_m);
 
 // identify_gradient from every start of refit_starts(); the best fit (lowest training misfit)
-// is kept, with its intervals and scores.
+// is kept, with its intervals and scores. Then the robust pass (Refit::robust), unless
+// options.robust_stages is off.
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
                       const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
