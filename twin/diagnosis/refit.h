@@ -113,10 +113,10 @@ struct Refit {
   ResidualField train_field, test_field;      // residuals with the refit material
   double information_criterion = 0.0;         // BIC above, on the training trials
   // When a training stage of the least-squares refit, simulated fresh, sat above
-  // kOutlierStageRatio times the median stage's misfit, and the median stage was at the noise
-  // (kRobustMedianNoiseRatio, stage_weights.h): the refit was run
-  // again from every start with those stages down-weighted, polished without weights, and
-  // kept when its fresh training mean square was lower than the least-squares refit's.
+  // kOutlierStageRatio times the median stage's misfit (stage_weights.h): the refit was run
+  // again with those stages down-weighted (from its result and from the effect absent),
+  // polished without weights, and kept when its fresh training mean square was lower than the
+  // least-squares refit's.
   struct RobustPass {
     std::vector<OutlierStage> outliers;
     double least_squares_m2 = 0.0;  // fresh training mean square per coordinate, least-squares refit

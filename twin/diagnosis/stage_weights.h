@@ -27,13 +27,6 @@ namespace twin::diagnosis {
 // one or two stages sat on another fold or carried physics outside the library.
 inline constexpr double kOutlierStageRatio = 3.0;
 
-// The robust pass is for a fit whose other stages agree at the noise: it runs only when the
-// median stage's RMS misfit is within this multiple of the noise sigma. A refit that misses
-// most stages by millimetres (a wrong candidate) has no material for a few stages to pull it
-// off; on blind sets 4001 and 8001 (README) such passes doubled the diagnosis time and were
-// never kept or never mattered.
-inline constexpr double kRobustMedianNoiseRatio = 1.5;
-
 struct OutlierStage {
   std::string trial, stage;  // trial directory name, stage id
   double rms_m = 0.0;        // the stage's RMS residual per coordinate
