@@ -4,6 +4,9 @@
 // when it fits all stages better; without the offset it must not run.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstdio>
+
 #include "sim_hw/scanner_lab.h"
 #include "tests/support/uniform_lab_config.h"
 #include "twin/diagnosis/effect_library.h"
