@@ -109,6 +109,9 @@ int main(int argc, char** argv) {
                           significant, field.stages.size(), analysis.significant_region_count());
     data.noise_floor_m = sigma_m;
     data.noise_source = noise_source;
+    data.notes.push_back("each stage below is one cycle of the run (label LOG/cycle id), its markers the twin mesh's "
+                         "vertices the cameras saw, its age the time since a grasp point last moved by more than 1 mm, "
+                         "its load the highest grasp point's lift over the first cycle's");
     data.notes.push_back(fmt::format("log {}: {}", log_path, read));
     data.notes.push_back(fmt::format("analysed {} of {} paired cycles, evenly spread (--max-cycles {})",
                                      selected.size(), logged.cycles.size(), max_cycles));
