@@ -181,15 +181,21 @@ void robust_pass(IdentificationProblem& problem, const Material& null_start,
   // at a fraction of the refit's (clamp grip has nine starts).
   const std::vector<VecX> from{r.result.coordinates, problem.coordinates_of(null_start)};
   IdentificationResult weighted;
-  problem.set_stage_weights(weights.weights);
-  for (std::size_t k = 0; k < from.size(); ++k) {
-    if (progress) progress(fmt::format("  robust refit {} from start {} of {}", r.effect, k + 1, from.size()));
-    gradient.start_coordinates = from[k];
-    IdentificationResult result = identify_gradient(problem, gradient);
-    if (result.coordinates.size() == 0) continue;
-    if (weighted.coordinates.size() == 0 || result.objective < weighted.objective) weighted = std::move(result);
+  {
+    // The weights go again however the searches end (an exception included).
+    struct Weighted {
+      IdentificationProblem& problem;
+      ~Weighted() { problem.set_stage_weights({}); }
+    } scope{problem};
+    problem.set_stage_weights(weights.weights);
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      if (progress) progress(fmt::format("  robust refit {} from start {} of {}", r.effect, k + 1, from.size()));
+      gradient.start_coordinates = from[k];
+      IdentificationResult result = identify_gradient(problem, gradient);
+      if (result.coordinates.size() == 0) continue;
+      if (weighted.coordinates.size() == 0 || result.objective < weighted.objective) weighted = std::move(result);
+    }
   }
-  problem.set_stage_weights({});
   if (weighted.coordinates.size() > 0) {
     // The least-squares minimum in the basin the weighted fit found.
     if (progress) progress(fmt::format("  robust refit {}: polishing without weights", r.effect));
