@@ -129,18 +129,22 @@ awk -F'\t' '
   { e = $1; order[e] = order[e] ? order[e] : ++n; names[order[e]] = e; sets[e]++; count[e, $3]++
     if ($6 != "nan" && $7 != "nan") { before[e] += $6; after[e] += $7; errs[e]++ }
     if ($9 == "yes") meets[e]++
+    # Where halving the error is possible at all: half the base error is not below the floor
+    # (the mean marker error noise alone leaves, which no model can go under).
+    if ($6 != "nan" && $8 != "nan" && 0.5 * $6 >= $8) { possible[e]++; if ($9 == "yes") met_possible[e]++ }
     if ($13 == "yes") gaps[e]++
     if ($12 != "nan" && $12 != "") { shift[e] += $12; shifts[e]++ }
     if ($10 != "nan") { gs += $10; gn++ } if ($11 != "nan") { ds += $11; dn++ } }
   END {
-    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s %8s\n", "effect", "sets", "right", "wrong_name", "none",
-           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm", "gap_ok"
+    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s %8s %12s\n", "effect", "sets", "right", "wrong_name", "none",
+           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm", "gap_ok", "err_possible"
     for (i = 1; i <= n; i++) { e = names[i]
-      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s %8s\n", e, sets[e], count[e, "right"],
+      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s %8s %12s\n", e, sets[e], count[e, "right"],
              count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "failed"],
              errs[e] ? sprintf("%.3f", before[e] / errs[e]) : "-", errs[e] ? sprintf("%.3f", after[e] / errs[e]) : "-",
              (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]),
              shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-",
-             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", gaps[e], sets[e]) }
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", gaps[e], sets[e]),
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", met_possible[e], possible[e]) }
     if (gn) printf "mean seconds: generate %.1f (%d sets), diagnose %s\n", gs / gn, gn, dn ? sprintf("%.1f (%d sets)", ds / dn, dn) : "-"
   }' "$results"
