@@ -3,11 +3,8 @@
 // in a plane, tracked with 0.5 mm noise, with an 8 mm bulge the prediction lacks in four
 // cycles, an unpaired sheet and a restart of the cell. The reader must pair the sheets by
 // cycle, and the tool must flag exactly the bulging cycles.
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
@@ -17,6 +14,7 @@
 
 #include "cell/cell_config.h"
 #include "cell/cell_log_cycles.h"
+#include "tests/support/run_command.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -91,15 +89,6 @@ void write_run_log(const std::string& path, int vertices) {
   for (int id = 0; id < 3; ++id) cycle(id, kStart_us + 5'000'000 + id * 50'000, 0.0, true);
 }
 
-int run(const std::string& command, std::string& output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  REQUIRE(pipe);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 }  // namespace
 
 TEST_CASE("a cell log's sheets are paired by cycle, across a restart of the cell", "[cell_log]") {
@@ -129,9 +118,9 @@ TEST_CASE("diagnose_cell_log flags the cycles where the tracked sheet bulges", "
   write_run_log(log, mesh().vertex_count());
   std::string output;
   const std::string out = (dir / "report").string();
-  const int status = run(std::string(DIAGNOSE_CELL_LOG_EXE) + " " + log + " --config " + kConfig + " --report " + out +
-                             " --noise-mm 0.5",
-                         output);
+  const std::string exe = DIAGNOSE_CELL_LOG_EXE;
+  const int status = testing_support::run_command(
+      exe + " " + log + " --config " + kConfig + " --report " + out + " --noise-mm 0.5", output);
   INFO(output);
   REQUIRE(status == 0);
   CHECK(output.find("disagree in 4 of 23") != std::string::npos);
@@ -150,7 +139,7 @@ TEST_CASE("diagnose_cell_log flags the cycles where the tracked sheet bulges", "
   const std::string other = (dir / "other.lcmlog").string();
   write_run_log(other, mesh().vertex_count() - 1);
   std::string refused;
-  CHECK(run(std::string(DIAGNOSE_CELL_LOG_EXE) + " " + other + " --config " + kConfig + " --report " + out, refused) == 1);
+  CHECK(testing_support::run_command(exe + " " + other + " --config " + kConfig + " --report " + out, refused) == 1);
   CHECK(refused.find("other.lcmlog") != std::string::npos);
   CHECK(refused.find("no cycle with both sheets on the config's mesh") != std::string::npos);
   // The first report is still there.

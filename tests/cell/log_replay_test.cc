@@ -4,10 +4,7 @@
 // replay_cell_log tool does the same end to end.
 #include "cell/log_replay.h"
 
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
-#include <cstdio>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <random>
@@ -16,6 +13,7 @@
 
 #include "cell/cell_monitor.h"
 #include "tests/cell/cycle_messages.h"
+#include "tests/support/run_command.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -66,15 +64,6 @@ Replayed replay(const std::string& path) {
   monitor.flush();
   out.summary = monitor.summary();
   return out;
-}
-
-int run(const std::string& command, std::string& output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  REQUIRE(pipe);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -136,16 +125,16 @@ TEST_CASE("replay: the replay_cell_log tool prints the cycles and exits by agree
   write_log(good, 6);
   write_log(bad, 6, 2);
   std::string out;
-  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + good + " --every 2", out) == 0);
+  CHECK(testing_support::run_command(std::string(REPLAY_CELL_LOG_EXE) + " " + good + " --every 2", out) == 0);
   CHECK_THAT(out, Catch::Contains("cycle 0 RUNNING err mean"));
   CHECK_THAT(out, Catch::Contains("cycle 4 DEGRADED"));
   CHECK_THAT(out, !Catch::Contains("cycle 1 "));  // --every 2
   CHECK_THAT(out, Catch::Contains("summary: 6 cycles (0..5), 0 missing"));
   CHECK_THAT(out, Catch::Contains("recomputed error: 6 cycles, 0 disagree"));
   out.clear();
-  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + bad, out) == 2);
+  CHECK(testing_support::run_command(std::string(REPLAY_CELL_LOG_EXE) + " " + bad, out) == 2);
   CHECK_THAT(out, Catch::Contains("recomputed error: 6 cycles, 1 disagree"));
   out.clear();
-  CHECK(run(std::string(REPLAY_CELL_LOG_EXE) + " " + good + ".missing", out) == 1);
+  CHECK(testing_support::run_command(std::string(REPLAY_CELL_LOG_EXE) + " " + good + ".missing", out) == 1);
   CHECK_THAT(out, Catch::Contains("cannot open"));
 }
