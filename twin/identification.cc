@@ -59,7 +59,6 @@ IdentificationProblem::Evaluation IdentificationProblem::evaluate(const VecX& co
   const Material material = material_at(coordinates);
   double weight_sum = 0.0;  // sum of the residuals' weights (their count when unweighted)
   double sum_squares = 0.0;
-  std::vector<const TrialFit*> usable;
   for (TrialEvaluator* trial : training_) {
     e.fits.push_back(trial->evaluate(material, parameters_, derivatives, fresh));
     ++simulations_;

@@ -33,8 +33,9 @@ void check_cycle(const SheetCycle& c, int vertices) {
 std::vector<std::size_t> spread_cycles(std::size_t cycles, std::size_t count) {
   std::vector<std::size_t> out;
   if (cycles == 0 || count == 0) return out;
-  if (count >= cycles || count == 1) {
-    for (std::size_t k = 0; k < std::min(cycles, count); ++k) out.push_back(count == 1 ? 0 : k);
+  if (count == 1) return {0};
+  if (count >= cycles) {
+    for (std::size_t k = 0; k < cycles; ++k) out.push_back(k);
     return out;
   }
   for (std::size_t k = 0; k < count; ++k) {
@@ -55,13 +56,7 @@ void add_cycle_residuals(ResidualField& field, const SheetMesh& mesh, const std:
   }
   const int n = mesh.vertex_count();
   for (const SheetCycle& c : cycles) check_cycle(c, n);
-  FieldTrial ft;
-  ft.name = name;
-  ft.sheet_min_uv_m = ft.sheet_max_uv_m = mesh.rest_uv.at(0);
-  for (const Vec2& p : mesh.rest_uv) {
-    ft.sheet_min_uv_m = ft.sheet_min_uv_m.cwiseMin(p);
-    ft.sheet_max_uv_m = ft.sheet_max_uv_m.cwiseMax(p);
-  }
+  FieldTrial ft = field_trial_on(mesh, name);
   ft.marker_count = n;
   const int trial_index = static_cast<int>(field.trials.size());
   field.trials.push_back(ft);
@@ -116,10 +111,7 @@ void add_cycle_residuals(ResidualField& field, const SheetMesh& mesh, const std:
       s.normal_residual_m = s.residual_m.dot(s.normal);
       s.curvature_1_m = curvature[v];
       s.clamp_distance_m = std::numeric_limits<double>::infinity();
-      for (const ClampSpec& clamp : clamps) {
-        s.clamp_distance_m = std::min(s.clamp_distance_m,
-                                      std::max(0.0, (s.uv_m - clamp.material_point_m).norm() - clamp.grip_radius_m));
-      }
+      for (const ClampSpec& clamp : clamps) s.clamp_distance_m = std::min(s.clamp_distance_m, grip_patch_distance_m(clamp, s.uv_m));
       error_sum += s.error_m();
       field.samples.push_back(s);
       ++fs.samples;

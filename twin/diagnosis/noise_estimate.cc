@@ -128,10 +128,11 @@ NoiseEstimate estimate_noise(const ResidualField& field) {
   const Scale& used = use_observed ? observed : residual;
   out.sigma_m = used.sigma_m;
   out.differences_used = used.count;
-  out.method = std::string(used.grid && used.neighbours ? "grid third differences and neighbour planes"
-                           : used.grid                  ? "grid third differences"
-                                                        : "neighbour planes") +
-               (use_observed ? " of the observed markers" : " of the residuals");
+  // Appended, not `std::string(...) + "..."`: GCC 12 warns falsely (-Warray-bounds) on that sum.
+  out.method = used.grid && used.neighbours ? "grid third differences and neighbour planes"
+               : used.grid                  ? "grid third differences"
+                                            : "neighbour planes";
+  out.method += use_observed ? " of the observed markers" : " of the residuals";
   return out;
 }
 

@@ -29,13 +29,27 @@ double clamp_distance(const Trial& trial, int stage, const Vec2& uv) {
   const auto& poses = trial.stages[stage].poses;
   for (std::size_t c = 0; c < trial.clamps.size() && c < poses.size(); ++c) {
     if (!poses[c].engaged) continue;
-    const double d = (uv - trial.clamps[c].material_point_m).norm() - trial.clamps[c].grip_radius_m;
-    best = std::min(best, std::max(0.0, d));
+    best = std::min(best, grip_patch_distance_m(trial.clamps[c], uv));
   }
   return best;
 }
 
 }  // namespace
+
+FieldTrial field_trial_on(const SheetMesh& mesh, const std::string& name) {
+  FieldTrial ft;
+  ft.name = name;
+  ft.sheet_min_uv_m = ft.sheet_max_uv_m = mesh.rest_uv.at(0);
+  for (const Vec2& p : mesh.rest_uv) {
+    ft.sheet_min_uv_m = ft.sheet_min_uv_m.cwiseMin(p);
+    ft.sheet_max_uv_m = ft.sheet_max_uv_m.cwiseMax(p);
+  }
+  return ft;
+}
+
+double grip_patch_distance_m(const ClampSpec& clamp, const Vec2& uv) {
+  return std::max(0.0, (uv - clamp.material_point_m).norm() - clamp.grip_radius_m);
+}
 
 std::vector<int> ResidualField::samples_of_stage(int s) const {
   std::vector<int> out;
@@ -123,13 +137,7 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
     throw std::invalid_argument("residual field: trial " + label + ": fit has " + std::to_string(fit.stages.size()) +
                                 " stages, the trial " + std::to_string(trial.stages.size()));
   const SheetMesh& mesh = evaluator.model().mesh();
-  FieldTrial ft;
-  ft.name = label;
-  ft.sheet_min_uv_m = ft.sheet_max_uv_m = mesh.rest_uv.at(0);
-  for (const Vec2& p : mesh.rest_uv) {
-    ft.sheet_min_uv_m = ft.sheet_min_uv_m.cwiseMin(p);
-    ft.sheet_max_uv_m = ft.sheet_max_uv_m.cwiseMax(p);
-  }
+  FieldTrial ft = field_trial_on(mesh, label);
   ft.grid_rows = trial.marker_grid_rows;
   ft.grid_cols = trial.marker_grid_cols;
   ft.marker_count = static_cast<int>(trial.marker_uv_m.size());

@@ -66,6 +66,12 @@ double stage_age_s(const Trial& trial, int stage);
 // height of the clamps engaged at the first stage (m; may be negative).
 double stage_load_m(const Trial& trial, int stage);
 
+// A field trial named `name` on `mesh`: its rest bounding box; no marker grid, no markers yet.
+FieldTrial field_trial_on(const SheetMesh& mesh, const std::string& name);
+
+// Material distance from uv to the clamp's grip patch (m; 0 inside it).
+double grip_patch_distance_m(const ClampSpec& clamp, const Vec2& uv);
+
 // Appends the residuals of one evaluated trial. `fit` must come from `evaluator` and be usable
 // (throws std::invalid_argument otherwise, naming the trial). Stages without markers are
 // skipped. `name` defaults to the last component of the trial's directory.
