@@ -1,5 +1,8 @@
 // Where the floor of issue 2's speed targets lies for this model, measured (not a test).
 //
+// It prints the static solve first (part 2 below), since part 1 factorises the Hessian at the
+// hanging equilibrium that solve reaches.
+//
 // Part 1, the implicit step: a linearized backward-Euler step needs the Hessian factorised
 // (nearly) afresh each step (twin_preconditioner_study shows why). This part factorises the
 // benchmark sheet's step Hessian (hanging equilibrium, inertia of a 10 ms step) with every
@@ -83,7 +86,8 @@ FactorTiming time_factorisation(Matrix& upper, int ordering, const std::vector<i
   return timing;
 }
 
-// A fill-reducing ordering of the vertex graph (free vertices), expanded to their 3 DOFs.
+// A fill-reducing ordering of the vertex graph (free vertices), expanded to their 3 DOFs. Free
+// vertex f owns DOFs 3f..3f+2 (dof_map.h), so DOF row / 3 is its vertex.
 std::vector<int> vertex_graph_ordering(const Matrix& upper) {
   const int vertices = static_cast<int>(upper.cols()) / 3;
   std::vector<Eigen::Triplet<double>> entries;
