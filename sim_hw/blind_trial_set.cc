@@ -23,17 +23,14 @@ ScannerLabConfig lab_config(const BlindSetConfig& config, const HiddenEffect& hi
   ScannerLabConfig lab;
   lab.specimen = config.specimen;
   lab.seed = lab_seed;
+  lab.truth_model = config.truth_model;
+  lab.grid_spacing_m = config.grid_spacing_m;
+  lab.jaws = config.jaws;
   lab.reference_triangles = config.triangles;
-  lab.reference_resolves_jaws = false;  // the reference is the twin's own mesh (blind_trial_set.h)
+  lab.reference_resolves_jaws = false;  // a twin reference is the twin's own mesh (blind_trial_set.h)
   lab.raw_scans = config.raw_scans;
   lab.material_override = hidden.truth;
-  if (!hidden.creases.empty()) {
-    lab.adjust_reference = [creases = hidden.creases](twin::ShellModel& model) {
-      for (const Crease& crease : creases) {
-        if (apply_crease(model, crease) == 0) throw std::runtime_error("blind set: a crease line misses the sheet");
-      }
-    };
-  }
+  lab.creases = hidden.creases;
   return lab;
 }
 
@@ -57,7 +54,7 @@ bool inside(const fs::path& directory, const fs::path& base) {
 double effect_shift_m(const BlindTrialSet& set, std::size_t k, const LabSpecimen& specimen) {
   ScannerLabConfig plain = set.labs[k];
   plain.material_override = specimen.truth;
-  plain.adjust_reference = nullptr;
+  plain.creases.clear();
   plain.raw_scans = false;
   try {
     const LabTrial without = make_lab_trial(plain);
@@ -171,7 +168,9 @@ void write_blind_trial_set(const BlindTrialSet& set, const std::string& trials_d
                                  {"forced", set.forced},
                                  {"seed", set.seed},
                                  {"specimen", set.labs.front().specimen},
-                                 {"reference_triangles", set.labs.front().reference_triangles}};
+                                 {"truth_model", to_string(set.labs.front().truth_model)},
+                                 {"reference", set.trials.front().reference_description}};
+  if (set.labs.front().truth_model == TruthModel::kTwin) hidden["reference_triangles"] = set.labs.front().reference_triangles;
   if (!set.effect_shift_m.empty()) {
     nlohmann::json shift = nlohmann::json::object();
     double sum = 0.0;

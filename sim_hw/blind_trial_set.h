@@ -5,12 +5,17 @@
 //                                                   each with its own clamp protocol and noise
 //   TRUTH/hidden_effect.json                        {"effect", "description", "parameters",
 //                                                    "trials", "forced", "seed", "specimen",
-//                                                    "reference_triangles", "marker_shift_mm"}
+//                                                    "truth_model", "reference",
+//                                                    "reference_triangles" (twin truth only),
+//                                                    "marker_shift_mm"}
 //   TRUTH/material.json                             the material the lab simulated
 //   TRUTH/<trial>/                                  per trial: noise-free markers, lab.json
 // TRUTH must not be inside TRIALS: whatever analyses TRIALS must not be able to find it.
-// The lab's reference sheet uses the analysis twin's mesh (`triangles`), so without a hidden
-// effect the only gap between twin and measurement is the scanner noise.
+// The lab's sheet is the independent model by default (lab_reference.h): physics the twin does
+// not share, on its own converged grid, so the gap between twin and measurement is the noise
+// plus the twin's model-form error, as on a real sheet. With truth_model twin, the reference is
+// the twin itself on the analysis twin's mesh (`triangles`), and without a hidden effect the
+// only gap is the scanner noise: the workflow scored against itself.
 
 #include <cstdint>
 #include <optional>
@@ -25,7 +30,10 @@ namespace sim_hw {
 struct BlindSetConfig {
   std::uint64_t seed = 1;
   std::string specimen = "composite";
-  int triangles = 300;                       // the reference sheet's mesh = the twin's
+  TruthModel truth_model = TruthModel::kIndependent;
+  double grid_spacing_m = 0;                 // independent model (0: its converged default)
+  real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
+  int triangles = 300;                       // twin model: the reference mesh = the twin's
   std::optional<std::string> forced_effect;  // tests and the accuracy script only
   bool raw_scans = false;                    // raw scans are large and diagnose does not read them
   // Also simulate each trial without the effect, to record how far it moves the markers

@@ -4,8 +4,10 @@
 // rest at an angle instead of flat. A rest curvature spreads a bend evenly over the sheet; a
 // crease puts it all on one line, so fitting the twin's effects cannot explain it.
 //
-// Applied to the scanner lab's reference sheet only (ScannerLabConfig::adjust_reference), after
-// its material is set: ShellModel::set_material recomputes rest angles from the material.
+// Applied to the scanner lab's sheet only (ScannerLabConfig::creases): on a twin reference by
+// apply_crease below, after its material is set (ShellModel::set_material recomputes rest
+// angles from the material); on the independent sheet as a band of rest curvature
+// (real_sheet/sheet_material.h), that model's own form of the same fold.
 
 #include "twin/shell_model.h"
 #include "twin/types.h"

@@ -134,14 +134,6 @@ std::vector<StageTimes> lab_stage_times(std::size_t stages, std::uint64_t seed) 
   return times;
 }
 
-// The sheet's normal at a marker, on the side the markers are stuck to (the side facing up
-// when the sheet lies flat: the rest triangles are counter-clockwise in (u, v)).
-Vec3 marker_normal(const twin::MaterialPointLocation& at, const twin::VecX& x) {
-  const Vec3 a = x.segment<3>(3 * at.vertices[0]), b = x.segment<3>(3 * at.vertices[1]),
-             c = x.segment<3>(3 * at.vertices[2]);
-  return (b - a).cross(c - a).normalized();
-}
-
 }  // namespace
 
 double lab_max_clamp_distance_m(double sheet_distance_m) {
@@ -155,16 +147,24 @@ LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng) 
   return protocol;
 }
 
+namespace {
+
+ReferenceSheet reference_sheet(const ScannerLabConfig& config) {
+  ReferenceSheet sheet;
+  sheet.model = config.truth_model;
+  sheet.grid_spacing_m = config.grid_spacing_m;
+  sheet.jaws = config.jaws;
+  sheet.triangles = config.reference_triangles;
+  sheet.resolve_jaws = config.reference_resolves_jaws;
+  sheet.clamp_refinement_radii_m = config.reference_clamp_refinement_radii_m;
+  return sheet;
+}
+
+}  // namespace
+
 twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
                                    const std::vector<twin::ClampSpec>& clamps) {
-  if (config.reference_resolves_jaws && !config.reference_clamp_refinement_radii_m.empty()) {
-    throw std::invalid_argument("scanner lab: give reference clamp refinement radii or resolve the jaws, not both");
-  }
-  const twin::SheetMesh uniform = twin::make_rectangular_sheet(
-      width_m, height_m, twin::edge_length_for_triangle_count(width_m, height_m, config.reference_triangles));
-  return config.reference_resolves_jaws
-             ? twin::refine_to_resolve_jaws(uniform, clamps)
-             : twin::refine_near_clamps(uniform, clamps, config.reference_clamp_refinement_radii_m);
+  return twin_reference_mesh(reference_sheet(config), width_m, height_m, clamps);
 }
 
 LabTrial make_lab_trial(const ScannerLabConfig& config) {
@@ -196,15 +196,8 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
   const std::vector<std::vector<ClampPose>> true_poses = std::move(protocol.stages);
   lab.true_stage1_poses = true_poses.front();
 
-  // The "real" sheet: the lab's material on the reference mesh, with the markers glued on (they
-  // weigh something only when the truth says so) and relaxing after each move if it does.
-  twin::ShellModel reference(lab_reference_mesh(config, w, h, trial.clamps), truth);
-  lab.reference_mesh_triangles = reference.mesh().triangle_count();
-  const twin::MaterialPointMap markers(reference.mesh(), trial.marker_uv_m);
-  reference.set_marker_points(markers);
-  if (config.adjust_reference) config.adjust_reference(reference);
-  const twin::ClampSet clamps(reference.mesh(), trial.clamps);
-  reference.set_clamps_of_material_effects(clamps);  // jaws that grip wider, or slip
+  // The "real" sheet: the lab's material, with the markers glued on (they weigh something only
+  // when the truth says so) and relaxing after each move if it does.
   const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
   std::vector<twin::TrialStage> reference_stages(true_poses.size());
   for (std::size_t s = 0; s < true_poses.size(); ++s) {
@@ -213,15 +206,17 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     reference_stages[s].time_s = times[s].time_s;
     reference_stages[s].clamps_moved_at_s = times[s].clamps_moved_at_s;
   }
-  const twin::TrialSimulation simulated = twin::simulate_stages(reference, clamps, reference_stages);
-  if (!simulated.usable()) {
-    throw std::runtime_error(fmt::format("scanner lab: the reference sheet ({}, seed {}) failed at {}",
-                                         config.specimen, config.seed, simulated.failure));
+  ReferenceStages simulated;
+  try {
+    simulated = simulate_reference(reference_sheet(config), truth, config.creases, w, h, trial.clamps, reference_stages, trial.marker_uv_m);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("scanner lab: {} seed {}: {}", config.specimen, config.seed, e.what()));
   }
+  lab.reference_description = simulated.description;
+  if (config.truth_model == TruthModel::kTwin) lab.reference_mesh_triangles = simulated.size;
 
   std::normal_distribution<double> marker_noise(0.0, config.marker_noise_m), probe_noise(0.0, config.probe_noise_m);
   for (std::size_t s = 0; s < true_poses.size(); ++s) {
-    const twin::VecX& x = simulated.stages[s].x;
     twin::TrialStage stage;
     stage.id = reference_stages[s].id;
     stage.time_s = reference_stages[s].time_s;
@@ -231,10 +226,10 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));
       stage.poses.push_back(pose);
     }
-    const std::vector<Vec3> truth_markers = markers.positions(x);
+    const std::vector<Vec3>& truth_markers = simulated.markers_m[s];
     lab.true_markers_m.push_back(truth_markers);
     std::vector<Vec3> scan;
-    for (int m = 0; m < markers.size(); ++m) {
+    for (int m = 0; m < static_cast<int>(truth_markers.size()); ++m) {
       bool hidden = false;
       for (std::size_t c = 0; c < trial.clamps.size(); ++c) {
         hidden |= true_poses[s][c].engaged &&
@@ -246,7 +241,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       }
       stage.observed.markers_m.push_back(truth_markers[m] + Vec3(marker_noise(rng), marker_noise(rng), marker_noise(rng)));
       if (config.raw_scans) {
-        append_marker_scan(truth_markers[m], marker_normal(markers.location(m), x),
+        append_marker_scan(truth_markers[m], simulated.normals[s][m],
                            config.scan_points_per_marker, config.scan_noise_m, rng, scan);
       }
     }
@@ -289,6 +284,12 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
   nlohmann::json j;
   j["specimen"] = config.specimen;
   j["seed"] = config.seed;
+  j["truth_model"] = to_string(config.truth_model);
+  j["reference"] = lab.reference_description;
+  if (config.truth_model == TruthModel::kIndependent) {
+    j["grid_spacing_m"] = config.grid_spacing_m;
+    j["jaws"] = to_string(config.jaws);
+  }
   j["reference_triangles"] = config.reference_triangles;
   j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
   j["reference_resolves_jaws"] = config.reference_resolves_jaws;

@@ -13,13 +13,14 @@
 // sheet's relaxation follows when the truth has it. Everything random comes from the seed.
 
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "sim_hw/crease.h"
 #include "sim_hw/lab_materials.h"
+#include "sim_hw/lab_reference.h"
 #include "twin/shell_model.h"
 #include "twin/trial.h"
 
@@ -28,14 +29,20 @@ namespace sim_hw {
 struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
-  int reference_triangles = 6000;  // the "real" sheet's mesh; the twin should use a coarser one
-  // Then refined near the clamps until the jaws are resolved (twin/trial.h:
-  // jaw_refinement_radii_m; on 6000 triangles 0.03 and 0.015 m, 6760 triangles), since
-  // 2026-11-26: the uniform mesh's 2 cm triangles are larger than the jaws (1.5 cm grip radius),
-  // so each clamp held one triangle or a few vertices, whichever the mesh put there, and the
-  // hanging shape near the clamps, the "truth", changed with the mesh. Or, when radii are given
-  // (and reference_resolves_jaws is false), one level per radius (m; refine_near_clamps).
-  // Neither: the uniform mesh, as before.
+  // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default)
+  // or the twin's own model (the lab before issue 33, for comparison).
+  TruthModel truth_model = TruthModel::kIndependent;
+  // Independent model: the grid's largest spacing (m; 0: converged default for the material)
+  // and whether the jaws hold the sheet rigidly or let it turn about their centre.
+  double grid_spacing_m = 0;
+  real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
+  // Twin model: the reference mesh; the twin should use a coarser one. Refined near the clamps
+  // until the jaws are resolved (twin/trial.h: jaw_refinement_radii_m; on 6000 triangles 0.03
+  // and 0.015 m, 6760 triangles): the uniform mesh's 2 cm triangles are larger than the jaws
+  // (1.5 cm grip radius), so each clamp would hold one triangle or a few vertices, whichever the
+  // mesh put there. Or, when radii are given (and reference_resolves_jaws is false), one level
+  // per radius (m; refine_near_clamps). Neither: the uniform mesh.
+  int reference_triangles = 6000;
   bool reference_resolves_jaws = true;
   std::vector<double> reference_clamp_refinement_radii_m;
   int marker_rows = 17, marker_cols = 17;
@@ -45,12 +52,11 @@ struct ScannerLabConfig {
   bool raw_scans = true;
   double scan_noise_m = 0.1e-3;    // raw scanner points, each axis (1 sigma)
   int scan_points_per_marker = 300;
-  // Overrides the specimen's truth (a lab material file); hidden effects come in later.
+  // Overrides the specimen's truth (a lab material file, with its effects block).
   std::optional<twin::Material> material_override;
-  // Physics outside the twin's model (e.g. a crease, sim_hw/crease.h), applied to the reference
-  // sheet once it is built with its material; the lab never sets the material again afterwards,
-  // so what this changes (rest angles, ...) stays for every stage. Empty: no change.
-  std::function<void(twin::ShellModel&)> adjust_reference;
+  // Physics outside any material file: creases the ply was once folded along (crease.h), in
+  // whichever model simulates the sheet.
+  std::vector<Crease> creases;
 };
 
 struct LabTrial {
@@ -61,7 +67,8 @@ struct LabTrial {
   twin::Material truth;  // what the reference sheet was simulated with
   std::vector<std::vector<twin::Vec3>> true_markers_m;  // per stage, noise-free, all markers
   std::vector<twin::ClampPose> true_stage1_poses;
-  int reference_mesh_triangles = 0;  // the reference sheet's mesh, refinement included
+  int reference_mesh_triangles = 0;  // the twin reference's mesh, refinement included (twin model)
+  std::string reference_description;  // the model that made the truth and its resolution
 };
 
 // How far apart (m) a clamp move may pull two engaged clamps whose material points are
@@ -77,8 +84,8 @@ struct LabProtocol {
 };
 LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng);
 
-// The reference sheet's rest mesh for these clamps (ScannerLabConfig::reference_triangles and
-// its refinement). Throws std::invalid_argument when both jaws and radii are asked for.
+// The twin model's reference mesh for these clamps (reference_triangles and its refinement).
+// Throws std::invalid_argument when both jaws and radii are asked for.
 twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
                                    const std::vector<twin::ClampSpec>& clamps);
 

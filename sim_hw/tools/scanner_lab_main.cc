@@ -25,8 +25,9 @@ int run_blind(const sim_hw::BlindSetConfig& config, const std::string& out, cons
   const sim_hw::BlindTrialSet set = sim_hw::make_blind_trial_set(config);
   sim_hw::write_blind_trial_set(set, out, truth);
   // Says nothing about the effect: whoever runs this may be the one analysing the trials.
-  fmt::print("scanner lab: blind set, {} seed {}, {} triangles: {} trials -> {} (truth in {})\n", config.specimen,
-             config.seed, config.triangles, set.trials.size(), out, truth);
+  fmt::print("scanner lab: blind set, {} seed {}, {} truth ({}): {} trials -> {} (truth in {})\n", config.specimen,
+             config.seed, sim_hw::to_string(config.truth_model), set.trials.front().reference_description,
+             set.trials.size(), out, truth);
   return 0;
 }
 
@@ -41,10 +42,17 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "trial directory to write (required)");
   app.add_option("--truth", truth, "directory for the truth (default: OUT.truth)");
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
-  app.add_option("--reference-triangles", config.reference_triangles, "triangles of the reference sheet");
+  std::string truth_model = "independent", jaws = "rigid";
+  app.add_option("--truth-model", truth_model,
+                 "independent: the lab's own plate model, sharing nothing with the twin (default); twin: the "
+                 "twin's shell model (the lab before issue 33)");
+  app.add_option("--grid-spacing-m", config.grid_spacing_m,
+                 "independent model: largest grid spacing (m; default: converged for the material)");
+  app.add_option("--jaws", jaws, "independent model: rigid (default) or pivot (the sheet turns in the jaws)");
+  app.add_option("--reference-triangles", config.reference_triangles, "twin model: triangles of the reference sheet");
   std::string reference_refinement = "jaws";
   app.add_option("--reference-clamp-refinement", reference_refinement,
-                 "jaws: halve the reference's edges near each clamp until they are at most 0.4 of its grip radius "
+                 "twin model: jaws: halve the reference's edges near each clamp until they are at most 0.4 of its grip radius "
                  "(default); or comma-separated radii (m): each halves the edges within that distance of every "
                  "clamp, in turn; none: the uniform mesh");
   app.add_option("--marker-noise-m", config.marker_noise_m, "marker position noise, 1 sigma per axis (m)");
@@ -56,7 +64,11 @@ int main(int argc, char** argv) {
   blind_app->add_option("--seed", blind.seed, "random seed (effect, magnitude, protocols, noise)");
   blind_app->add_option("--out", blind_out, "directory for train_1, train_2, test_1")->required();
   blind_app->add_option("--truth", blind_truth, "directory for the hidden effect (not inside --out)")->required();
-  blind_app->add_option("--triangles", blind.triangles, "triangles of the reference sheet (the twin's mesh)");
+  std::string blind_truth_model = "independent", blind_jaws = "rigid";
+  blind_app->add_option("--truth-model", blind_truth_model, "independent (default) or twin, as for a trial");
+  blind_app->add_option("--grid-spacing-m", blind.grid_spacing_m, "independent model: largest grid spacing (m)");
+  blind_app->add_option("--jaws", blind_jaws, "independent model: rigid (default) or pivot");
+  blind_app->add_option("--triangles", blind.triangles, "twin model: triangles of the reference sheet (the twin's mesh)");
   blind_app->add_option("--specimen", blind.specimen, "composite, cloth, canvas or felt");
   blind_app->add_option("--effect", forced, "force the hidden effect (generator tests only)");
   blind_app->add_flag("--scans", blind.raw_scans, "also write raw scan points (large)");
@@ -64,6 +76,8 @@ int main(int argc, char** argv) {
   try {
     if (blind_app->parsed()) {
       if (!forced.empty()) blind.forced_effect = forced;
+      blind.truth_model = sim_hw::parse_truth_model(blind_truth_model, "--truth-model");
+      blind.jaws = sim_hw::parse_jaw_kind(blind_jaws, "--jaws");
       return run_blind(blind, blind_out, blind_truth);
     }
     if (out.empty()) {
@@ -72,6 +86,8 @@ int main(int argc, char** argv) {
     }
     const twin::ClampRefinement refinement =
         twin::parse_clamp_refinement(reference_refinement, "--reference-clamp-refinement");
+    config.truth_model = sim_hw::parse_truth_model(truth_model, "--truth-model");
+    config.jaws = sim_hw::parse_jaw_kind(jaws, "--jaws");
     config.reference_resolves_jaws = refinement.resolve_jaws;
     config.reference_clamp_refinement_radii_m = refinement.radii_m;
     if (!material_file.empty()) config.material_override = twin::read_material_file(material_file);
@@ -80,10 +96,9 @@ int main(int argc, char** argv) {
     sim_hw::write_lab_trial(lab, config, out, truth);
     int hidden = 0;
     for (const auto& stage : lab.trial.stages) hidden += static_cast<int>(stage.observed.markers_m.size()) - stage.observed.seen_marker_count();
-    fmt::print("scanner lab: {} seed {}: {} stages, {} markers, {} hidden under clamps in all, reference sheet {} "
-               "triangles -> {} (truth in {})\n",
+    fmt::print("scanner lab: {} seed {}: {} stages, {} markers, {} hidden under clamps in all, {} -> {} (truth in {})\n",
                config.specimen, config.seed, lab.trial.stages.size(), lab.trial.marker_uv_m.size(), hidden,
-               lab.reference_mesh_triangles, out, truth);
+               lab.reference_description, out, truth);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scanner_lab: %s\n", e.what());

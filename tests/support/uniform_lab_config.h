@@ -14,6 +14,7 @@ inline sim_hw::ScannerLabConfig uniform_lab_config(std::uint64_t seed, int trian
   config.specimen = "composite";
   config.seed = seed;
   config.reference_triangles = triangles;
+  config.truth_model = sim_hw::TruthModel::kTwin;  // the workflow against its own model
   config.reference_resolves_jaws = false;
   config.raw_scans = false;
   return config;

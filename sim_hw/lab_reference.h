@@ -1,0 +1,65 @@
+#pragma once
+// The scanner lab's "real" sheet, simulated through a trial's stages by one of two models:
+//   independent (the default): sim_hw/real_sheet, physics that shares no mesh, energy or solver
+//     code with the twin (issue 33), on a grid fine enough to be converged
+//     (docs/independent_sheet.md, `real_sheet_refinement`);
+//   twin: the twin's own shell model on a reference mesh (the lab before issue 33; every figure
+//     against it is the twin scoring itself).
+// Either returns, per stage, the noise-free markers and the sheet's normal at each (for the raw
+// scans), or throws std::runtime_error naming the stage that failed.
+
+#include <string>
+#include <vector>
+
+#include "sim_hw/crease.h"
+#include "sim_hw/real_sheet/jaw_pad.h"
+#include "twin/material.h"
+#include "twin/sheet_mesh.h"
+#include "twin/trial.h"
+
+namespace sim_hw {
+
+enum class TruthModel { kIndependent, kTwin };
+// "independent" | "twin"; throws std::invalid_argument naming `what` otherwise.
+TruthModel parse_truth_model(const std::string& name, const std::string& what);
+std::string to_string(TruthModel model);
+// "rigid" | "pivot"; throws std::invalid_argument naming `what` otherwise.
+real_sheet::JawKind parse_jaw_kind(const std::string& name, const std::string& what);
+std::string to_string(real_sheet::JawKind kind);
+
+struct ReferenceSheet {
+  TruthModel model = TruthModel::kIndependent;
+  // Independent model: largest grid spacing (m; 0 picks the converged default for the
+  // material, independent_grid_spacing_m) and the jaws.
+  double grid_spacing_m = 0;
+  real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
+  // Twin model: its mesh (ScannerLabConfig's reference mesh settings).
+  int triangles = 6000;
+  bool resolve_jaws = true;
+  std::vector<double> clamp_refinement_radii_m;
+};
+
+struct ReferenceStages {
+  std::vector<std::vector<twin::Vec3>> markers_m, normals;  // per stage, per marker
+  std::string description;  // the model and its resolution, for people and lab.json
+  int size = 0;             // triangles (twin) or grid nodes (independent)
+};
+
+// The independent model's default grid spacing (m) for a material: a tenth of the bending
+// length (D / (rho g))^(1/3) of its softer direction, at most 1 cm. The refinement study
+// (docs/independent_sheet.md) shows marker positions converged there.
+double independent_grid_spacing_m(const twin::Material& material);
+
+// The twin model's reference mesh for these clamps. Throws std::invalid_argument when both
+// jaws and radii are asked for.
+twin::SheetMesh twin_reference_mesh(const ReferenceSheet& reference, double width_m, double height_m,
+                                    const std::vector<twin::ClampSpec>& clamps);
+
+// Simulates `stages` (poses, times) of a sheet of width x height carrying `marker_uv_m`.
+ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::Material& truth,
+                                   const std::vector<Crease>& creases, double width_m, double height_m,
+                                   const std::vector<twin::ClampSpec>& clamps,
+                                   const std::vector<twin::TrialStage>& stages,
+                                   const std::vector<twin::Vec2>& marker_uv_m);
+
+}  // namespace sim_hw

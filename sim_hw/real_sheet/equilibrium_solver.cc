@@ -1,0 +1,151 @@
+#include "sim_hw/real_sheet/equilibrium_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+#include "sim_hw/real_sheet/cholesky.h"
+
+namespace sim_hw::real_sheet {
+namespace {
+
+double max_block_norm(const VecX& g) {
+  double m = 0;
+  for (int i = 0; i < g.size() / 3; ++i) m = std::max(m, g.segment<3>(3 * i).norm());
+  return m;
+}
+
+// The jaws after a step of alpha along dx's rotation part.
+std::vector<JawHold> turned(const std::vector<JawHold>& jaws, const VecX& dx, int nodes, double alpha) {
+  std::vector<JawHold> out = jaws;
+  int pivot = nodes;
+  for (JawHold& j : out) {
+    if (j.pad.kind != JawKind::kPivot) continue;
+    j.rotation = rotation_exp(alpha * dx.segment<3>(3 * pivot)) * j.rotation;
+    ++pivot;
+  }
+  return out;
+}
+
+}  // namespace
+
+EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vector<JawHold>& jaws,
+                                    const EquilibriumOptions& options, const StepTerms* step) {
+  EquilibriumReport report;
+  const int n = model.node_count();
+  const double tolerance_N = options.force_tolerance * model.total_weight_N();
+  // Damping metric: node masses; a pivot's turn weighs the pad's area moment of the sheet's
+  // density (kg m^2), so mu M is a pseudo-time on both.
+  const int dofs = model.dof_count(jaws);
+  VecX metric(dofs);
+  for (int i = 0; i < n; ++i) metric.segment<3>(3 * i).setConstant(model.node_mass_kg()[i]);
+  {
+    int pivot = n;
+    for (const JawHold& j : jaws) {
+      if (j.pad.kind != JawKind::kPivot) continue;
+      double moment_m4 = 0;
+      for (const JawSample& s : j.pad.samples) moment_m4 += s.area_m2 * s.offset_m.squaredNorm();
+      metric.segment<3>(3 * pivot).setConstant(std::max(1e-12, model.material().density_kg_m2 * moment_m4));
+      ++pivot;
+    }
+  }
+  BlockSparseMatrix H = model.hessian_pattern(jaws);
+  Cholesky cholesky;
+  VecX g;
+  double energy = model.energy(x, jaws, &g, nullptr, Hessian::kExact, step);
+  if (!std::isfinite(energy)) {
+    report.message = "the starting shape has no finite energy";
+    return report;
+  }
+  double mu = options.initial_damping_1_s2;
+  const double mu_floor = 1.0;  // 1/s^2: below this a step is Newton's
+  int failed_in_a_row = 0;
+  VecX x_try;
+  const VecX x_start = x;
+  const std::vector<JawHold> jaws_start = jaws;
+  const auto fail = [&](std::string why) {
+    x = x_start;
+    jaws = jaws_start;
+    report.message = std::move(why);
+    return report;
+  };
+  for (report.iterations = 0; report.iterations < options.max_iterations; ++report.iterations) {
+    report.max_force_N = max_block_norm(g);
+    report.energy_J = energy;
+    if (report.max_force_N <= tolerance_N) {
+      report.converged = true;
+      return report;
+    }
+    // Factorise: exact Hessian while undamped, projected once damped or when the exact one is
+    // not positive definite.
+    bool factored = false;
+    for (int attempt = 0; attempt < 40 && !factored; ++attempt) {
+      const Hessian kind = mu == 0.0 ? Hessian::kExact : Hessian::kProjected;
+      model.energy(x, jaws, nullptr, &H, kind, step);
+      if (mu > 0) H.add_to_diagonal(mu * metric);
+      ++report.factorizations;
+      factored = cholesky.factorize(H);
+      if (!factored) mu = std::max(mu * 8.0, mu_floor * 64.0);
+    }
+    if (!factored) return fail("no damping made the Hessian positive definite");
+    const VecX dx = cholesky.solve(-g);
+    if (std::getenv("REAL_SHEET_TRACE")) {
+      std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g\n", report.iterations, energy, report.max_force_N, mu,
+                   dx.lpNorm<Eigen::Infinity>());
+    }
+    if (mu == 0.0 && dx.lpNorm<Eigen::Infinity>() < options.step_tolerance_m) {
+      x += dx.head(3 * n);
+      jaws = turned(jaws, dx, n, 1.0);
+      report.energy_J = model.energy(x, jaws, &g, nullptr, Hessian::kExact, step);
+      report.max_force_N = max_block_norm(g);
+      ++report.iterations;
+      report.converged = true;
+      return report;
+    }
+    // Backtracking: accept the first alpha whose energy falls (or, within rounding of the
+    // energy, whose force falls).
+    double alpha = 1.0;
+    bool accepted = false;
+    VecX g_try;
+    std::vector<JawHold> jaws_try;
+    const double slope = g.dot(dx);
+    for (int k = 0; k < 12; ++k, alpha *= 0.5) {
+      x_try = x + alpha * dx.head(3 * n);
+      jaws_try = turned(jaws, dx, n, alpha);
+      const double e = model.energy(x_try, jaws_try, &g_try, nullptr, Hessian::kExact, step);
+      if (!std::isfinite(e)) continue;
+      const double rounding = 1e-12 * std::max(1.0, std::abs(energy));
+      if (e <= energy + 1e-4 * alpha * slope || (std::abs(e - energy) <= rounding && max_block_norm(g_try) < report.max_force_N)) {
+        accepted = true;
+        energy = e;
+        break;
+      }
+    }
+    if (!accepted) {
+      if (++failed_in_a_row > 12) return fail(fmt::format("no step lowered the energy (force {:.3g} N)", report.max_force_N));
+      mu = std::max(mu * 8.0, mu_floor * 64.0);
+      continue;
+    }
+    failed_in_a_row = 0;
+    x = x_try;
+    jaws = jaws_try;
+    g = g_try;
+    if (alpha == 1.0) {
+      mu = mu / 4.0;
+      if (mu < mu_floor) mu = 0.0;
+    } else if (alpha < 0.2) {
+      mu = std::max(mu * 4.0, mu_floor * 16.0);
+    }
+  }
+  report.max_force_N = max_block_norm(g);
+  report.converged = report.max_force_N <= tolerance_N;
+  if (!report.converged) {
+    return fail(fmt::format("iteration limit ({}) at force {:.3g} N", options.max_iterations, report.max_force_N));
+  }
+  return report;
+}
+
+}  // namespace sim_hw::real_sheet

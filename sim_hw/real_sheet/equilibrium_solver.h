@@ -1,0 +1,42 @@
+#pragma once
+// Minimises the independent sheet's potential: static equilibrium (or one implicit step) by a
+// damped Newton method. Each iteration solves (H + mu M) dx = -g, with M the lumped masses, and
+// backtracks along dx until the energy falls. mu (1/s^2) is a pseudo-time damping: large, the
+// step is a short overdamped motion under the forces (how a released or folding sheet really
+// moves, and what picks its branch); zero, it is Newton's step. mu shrinks after full steps and
+// grows after failed ones. H is the exact Hessian when mu is zero and it is positive definite,
+// the projected one (tension-field membrane, Gauss-Newton bending) otherwise.
+// Converged when every node's force and every pivot's moment are below the tolerance, or a
+// Newton step moves nothing any more. On
+// failure the positions and jaw turns are left as they were.
+
+#include <string>
+#include <vector>
+
+#include "sim_hw/real_sheet/sheet_model.h"
+
+namespace sim_hw::real_sheet {
+
+struct EquilibriumOptions {
+  // Converged when |force| on each node is below this share of the sheet's weight (N per N).
+  double force_tolerance = 1e-9;
+  // ... or when a Newton step moves no node by more than this (m): stiff jaw pads leave forces
+  // of rounding size (pad stiffness x 1e-16 m) that no step can lower.
+  double step_tolerance_m = 1e-10;
+  int max_iterations = 400;
+  double initial_damping_1_s2 = 0.0;  // mu to start with (0: plain Newton first)
+};
+
+struct EquilibriumReport {
+  bool converged = false;
+  int iterations = 0, factorizations = 0;
+  double max_force_N = 0;
+  double energy_J = 0;
+  std::string message;  // why it stopped when not converged
+};
+
+// x (3 n, m) and the pivot jaws' rotations are updated in place on success.
+EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vector<JawHold>& jaws,
+                                    const EquilibriumOptions& options = {}, const StepTerms* step = nullptr);
+
+}  // namespace sim_hw::real_sheet
