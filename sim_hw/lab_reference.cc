@@ -1,6 +1,7 @@
 #include "sim_hw/lab_reference.h"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <stdexcept>
 
@@ -48,37 +49,94 @@ ReferenceStages twin_reference(const ReferenceSheet& reference, const twin::Mate
   return out;
 }
 
-ReferenceStages independent_reference(const ReferenceSheet& reference, const twin::Material& truth,
-                                      const std::vector<Crease>& creases, double w, double h,
-                                      const std::vector<twin::ClampSpec>& clamps,
-                                      const std::vector<twin::TrialStage>& stages,
-                                      const std::vector<twin::Vec2>& marker_uv) {
+struct IndependentPath {
+  real_sheet::SheetMaterial material;
+  std::unique_ptr<real_sheet::SheetModel> model;
+  real_sheet::PathResult result;
+  std::vector<double> ages_s;
+};
+
+IndependentPath independent_path(const ReferenceSheet& reference, const twin::Material& truth,
+                                 const std::vector<Crease>& creases, double w, double h,
+                                 const std::vector<twin::ClampSpec>& clamps,
+                                 const std::vector<twin::TrialStage>& stages, const std::vector<twin::Vec2>& marker_uv) {
   namespace rs = real_sheet;
-  rs::SheetMaterial material = rs::sheet_material_from(truth);
-  for (const Crease& c : creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
-  const double spacing = reference.grid_spacing_m > 0 ? reference.grid_spacing_m : independent_grid_spacing_m(truth);
-  rs::SheetModel model(rs::Grid(w, h, spacing), material, marker_uv);
-  std::vector<rs::PathStage> path(stages.size());
+  IndependentPath path;
+  path.material = rs::sheet_material_from(truth);
+  for (const Crease& c : creases) path.material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
+  const double spacing =
+      reference.path_grid_spacing_m > 0 ? reference.path_grid_spacing_m : independent_path_spacing_m(truth);
+  path.model = std::make_unique<rs::SheetModel>(rs::Grid(w, h, spacing), path.material, marker_uv);
+  std::vector<rs::PathStage> stage_poses(stages.size());
   for (std::size_t k = 0; k < stages.size(); ++k) {
-    path[k].poses = stages[k].poses;
-    if (stages[k].time_s && stages[k].clamps_moved_at_s) path[k].age_s = *stages[k].time_s - *stages[k].clamps_moved_at_s;
+    stage_poses[k].poses = stages[k].poses;
+    if (stages[k].time_s && stages[k].clamps_moved_at_s) {
+      stage_poses[k].age_s = *stages[k].time_s - *stages[k].clamps_moved_at_s;
+    }
+    // Without creep the age changes nothing; the path solves every stage at age 0 then.
+    path.ages_s.push_back(path.material.creep_fraction > 0 ? stage_poses[k].age_s : 0.0);
   }
   rs::PathOptions options;
   options.jaws = reference.jaws;
-  const rs::PathResult result = rs::simulate_path(model, clamps, path, options);
-  if (!result.usable()) throw std::runtime_error(fmt::format("the independent reference sheet failed at {}", result.failure));
-  ReferenceStages out;
+  path.result = rs::simulate_path(*path.model, clamps, stage_poses, options);
+  if (!path.result.usable()) {
+    throw std::runtime_error(fmt::format("the independent reference sheet failed at {}", path.result.failure));
+  }
+  return path;
+}
+
+// The path's stages carried to a grid of `spacing` (the path's own when not finer).
+ReferenceStages independent_stages(const ReferenceSheet& reference, const IndependentPath& path, double w, double h,
+                                   const std::vector<twin::ClampSpec>& clamps, double spacing,
+                                   const std::vector<twin::Vec2>& marker_uv) {
+  namespace rs = real_sheet;
+  const rs::Grid& coarse = path.model->grid();
+  const bool carried = spacing < 0.999 * coarse.max_spacing_m();
+  std::vector<rs::JawSpot> spots;
+  for (const twin::ClampSpec& c : clamps) spots.push_back({c.material_point_m, c.grip_radius_m});
+  rs::SheetModel fine(carried ? rs::graded_grid(w, h, spots, spacing) : coarse, path.material, marker_uv);
+  const rs::SheetModel& model = carried ? fine : *path.model;
   const rs::Grid& grid = model.grid();
+  ReferenceStages out;
   out.size = grid.node_count();
-  out.description = fmt::format("independent plate, {} x {} grid ({:.1f} x {:.1f} mm), {} jaws", grid.nu(), grid.nv(),
-                                1e3 * grid.du(), 1e3 * grid.dv(), to_string(reference.jaws));
-  for (const twin::VecX& x : result.stages) {
+  rs::PathOptions options;
+  options.jaws = reference.jaws;
+  int iterations = 0;
+  for (std::size_t k = 0; k < path.result.stages.size(); ++k) {
+    twin::VecX x = path.result.stages[k];
+    if (carried) {
+      fine.set_age_s(path.ages_s[k]);
+      rs::EquilibriumReport report;
+      try {
+        x = rs::carry_to_grid(*path.model, x, path.result.holds[k], fine, options, &report);
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error(fmt::format("stage {}: {}", k + 1, e.what()));
+      }
+      iterations += report.iterations;
+    }
     out.markers_m.push_back(model.marker_positions(x));
     std::vector<Vec3> normals;
     for (const twin::Vec2& uv : marker_uv) normals.push_back(model.normal_at(x, uv));
     out.normals.push_back(std::move(normals));
   }
+  out.description = fmt::format(
+      "independent plate, {} x {} grid ({:.1f}-{:.1f} mm), path on {} x {} ({:.1f} mm), {} jaws ({} path increments, "
+      "{} path iterations, {} fine iterations)",
+      grid.nu(), grid.nv(), 1e3 * grid.min_spacing_m(), 1e3 * grid.max_spacing_m(), coarse.nu(), coarse.nv(),
+      1e3 * coarse.max_spacing_m(),
+      to_string(reference.jaws), path.result.increments,
+      path.result.iterations, iterations);
   return out;
+}
+
+ReferenceStages independent_reference(const ReferenceSheet& reference, const twin::Material& truth,
+                                      const std::vector<Crease>& creases, double w, double h,
+                                      const std::vector<twin::ClampSpec>& clamps,
+                                      const std::vector<twin::TrialStage>& stages,
+                                      const std::vector<twin::Vec2>& marker_uv) {
+  const IndependentPath path = independent_path(reference, truth, creases, w, h, clamps, stages, marker_uv);
+  const double spacing = reference.grid_spacing_m > 0 ? reference.grid_spacing_m : independent_grid_spacing_m(truth);
+  return independent_stages(reference, path, w, h, clamps, spacing, marker_uv);
 }
 
 }  // namespace
@@ -110,11 +168,34 @@ real_sheet::JawKind parse_jaw_kind(const std::string& name, const std::string& w
 
 std::string to_string(real_sheet::JawKind kind) { return kind == real_sheet::JawKind::kPivot ? "pivot" : "rigid"; }
 
-double independent_grid_spacing_m(const twin::Material& m) {
+namespace {
+
+double bending_length_m(const twin::Material& m) {
   const double D = std::min(m.bending_rigidity_u_Nm, m.bending_rigidity_v_Nm);
-  const double bending_length_m = std::cbrt(D / (m.surface_density_kg_m2 * twin::kStandardGravity));
-  return std::min(0.01, 0.1 * bending_length_m);
+  return std::cbrt(D / (m.surface_density_kg_m2 * twin::kStandardGravity));
 }
+
+}  // namespace
+
+double independent_grid_spacing_m(const twin::Material& m) { return std::min(0.01, 0.15 * bending_length_m(m)); }
+
+double independent_path_spacing_m(const twin::Material& m) { return std::min(0.03, 0.5 * bending_length_m(m)); }
+
+std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& reference, const twin::Material& truth,
+                                                    const std::vector<Crease>& creases, double width_m,
+                                                    double height_m, const std::vector<twin::ClampSpec>& clamps,
+                                                    const std::vector<twin::TrialStage>& stages,
+                                                    const std::vector<twin::Vec2>& marker_uv_m,
+                                                    const std::vector<double>& spacings_m) {
+  const IndependentPath path =
+      independent_path(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
+  std::vector<ReferenceStages> out;
+  for (const double h : spacings_m) {
+    out.push_back(independent_stages(reference, path, width_m, height_m, clamps, h, marker_uv_m));
+  }
+  return out;
+}
+
 
 ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::Material& truth,
                                    const std::vector<Crease>& creases, double width_m, double height_m,

@@ -29,9 +29,13 @@ std::string to_string(real_sheet::JawKind kind);
 
 struct ReferenceSheet {
   TruthModel model = TruthModel::kIndependent;
-  // Independent model: largest grid spacing (m; 0 picks the converged default for the
-  // material, independent_grid_spacing_m) and the jaws.
+  // Independent model: the clamps' path is followed on a coarse grid (path_grid_spacing_m; 0:
+  // independent_path_spacing_m) and each stage's equilibrium is then carried to the grid the
+  // markers are read from and solved there (grid_spacing_m; 0: the converged default for the
+  // material, independent_grid_spacing_m). The path picks the branch (as a real sheet's handling
+  // does); the fine grid converges the shape on it.
   double grid_spacing_m = 0;
+  double path_grid_spacing_m = 0;
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
   // Twin model: its mesh (ScannerLabConfig's reference mesh settings).
   int triangles = 6000;
@@ -45,10 +49,11 @@ struct ReferenceStages {
   int size = 0;             // triangles (twin) or grid nodes (independent)
 };
 
-// The independent model's default grid spacing (m) for a material: a tenth of the bending
-// length (D / (rho g))^(1/3) of its softer direction, at most 1 cm. The refinement study
-// (docs/independent_sheet.md) shows marker positions converged there.
+// The independent model's default grid spacing (m) for a material, from the bending length
+// (D / (rho g))^(1/3) of its softer direction: the refinement study (docs/independent_sheet.md)
+// shows marker positions converged there. The path's grid is coarser.
 double independent_grid_spacing_m(const twin::Material& material);
+double independent_path_spacing_m(const twin::Material& material);
 
 // The twin model's reference mesh for these clamps. Throws std::invalid_argument when both
 // jaws and radii are asked for.
@@ -61,5 +66,14 @@ ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::
                                    const std::vector<twin::ClampSpec>& clamps,
                                    const std::vector<twin::TrialStage>& stages,
                                    const std::vector<twin::Vec2>& marker_uv_m);
+
+// The independent model's refinement study: one path (on the path grid), each stage carried
+// to every spacing of `spacings_m`; per spacing, the stages' markers.
+std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& reference, const twin::Material& truth,
+                                                    const std::vector<Crease>& creases, double width_m,
+                                                    double height_m, const std::vector<twin::ClampSpec>& clamps,
+                                                    const std::vector<twin::TrialStage>& stages,
+                                                    const std::vector<twin::Vec2>& marker_uv_m,
+                                                    const std::vector<double>& spacings_m);
 
 }  // namespace sim_hw

@@ -147,8 +147,6 @@ LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng) 
   return protocol;
 }
 
-namespace {
-
 ReferenceSheet reference_sheet(const ScannerLabConfig& config) {
   ReferenceSheet sheet;
   sheet.model = config.truth_model;
@@ -157,30 +155,25 @@ ReferenceSheet reference_sheet(const ScannerLabConfig& config) {
   sheet.triangles = config.reference_triangles;
   sheet.resolve_jaws = config.reference_resolves_jaws;
   sheet.clamp_refinement_radii_m = config.reference_clamp_refinement_radii_m;
+  sheet.path_grid_spacing_m = config.path_grid_spacing_m;
   return sheet;
 }
-
-}  // namespace
 
 twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
                                    const std::vector<twin::ClampSpec>& clamps) {
   return twin_reference_mesh(reference_sheet(config), width_m, height_m, clamps);
 }
 
-LabTrial make_lab_trial(const ScannerLabConfig& config) {
-  LabTrial lab;
-  lab.specimen = lab_specimen(config.specimen);
-  lab.truth = config.material_override.value_or(lab.specimen.truth);
-  const twin::Material& truth = lab.truth;
-  const double w = lab.specimen.width_m, h = lab.specimen.height_m;
-  std::mt19937_64 rng(config.seed);
-
-  twin::Trial& trial = lab.trial;
-  trial.material_name = lab.specimen.name;
+LabSetup lab_setup(const ScannerLabConfig& config) {
+  LabSetup setup{lab_specimen(config.specimen), {}, {}, {}, std::mt19937_64(config.seed)};
+  setup.truth = config.material_override.value_or(setup.specimen.truth);
+  const double w = setup.specimen.width_m, h = setup.specimen.height_m;
+  twin::Trial& trial = setup.trial;
+  trial.material_name = setup.specimen.name;
   trial.sheet.width_m = w;
   trial.sheet.height_m = h;
-  trial.thickness_m = lab.specimen.thickness_m;
-  trial.mass_kg = lab.specimen.mass_kg;
+  trial.thickness_m = setup.specimen.thickness_m;
+  trial.mass_kg = setup.specimen.mass_kg;
   trial.marker_grid_rows = config.marker_rows;
   trial.marker_grid_cols = config.marker_cols;
   // Markers cover the sheet with a margin of 3 % of the width on every side.
@@ -191,24 +184,38 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       trial.marker_uv_m.push_back(Vec2(margin + c * spacing.x(), margin + r * spacing.y()));
     }
   }
-  LabProtocol protocol = lab_protocol(w, h, rng);
+  LabProtocol protocol = lab_protocol(w, h, setup.rng);
   trial.clamps = std::move(protocol.clamps);
-  const std::vector<std::vector<ClampPose>> true_poses = std::move(protocol.stages);
+  const std::vector<StageTimes> times = lab_stage_times(protocol.stages.size(), config.seed);
+  setup.stages.resize(protocol.stages.size());
+  for (std::size_t s = 0; s < protocol.stages.size(); ++s) {
+    setup.stages[s].id = std::to_string(s + 1);
+    setup.stages[s].poses = protocol.stages[s];
+    setup.stages[s].time_s = times[s].time_s;
+    setup.stages[s].clamps_moved_at_s = times[s].clamps_moved_at_s;
+  }
+  return setup;
+}
+
+LabTrial make_lab_trial(const ScannerLabConfig& config) {
+  LabSetup setup = lab_setup(config);
+  LabTrial lab;
+  lab.specimen = setup.specimen;
+  lab.truth = setup.truth;
+  lab.trial = setup.trial;
+  twin::Trial& trial = lab.trial;
+  const double w = lab.specimen.width_m, h = lab.specimen.height_m;
+  std::mt19937_64& rng = setup.rng;
+  const std::vector<twin::TrialStage>& reference_stages = setup.stages;
+  std::vector<std::vector<ClampPose>> true_poses;
+  for (const twin::TrialStage& s : reference_stages) true_poses.push_back(s.poses);
   lab.true_stage1_poses = true_poses.front();
 
   // The "real" sheet: the lab's material, with the markers glued on (they weigh something only
   // when the truth says so) and relaxing after each move if it does.
-  const std::vector<StageTimes> times = lab_stage_times(true_poses.size(), config.seed);
-  std::vector<twin::TrialStage> reference_stages(true_poses.size());
-  for (std::size_t s = 0; s < true_poses.size(); ++s) {
-    reference_stages[s].id = std::to_string(s + 1);
-    reference_stages[s].poses = true_poses[s];
-    reference_stages[s].time_s = times[s].time_s;
-    reference_stages[s].clamps_moved_at_s = times[s].clamps_moved_at_s;
-  }
   ReferenceStages simulated;
   try {
-    simulated = simulate_reference(reference_sheet(config), truth, config.creases, w, h, trial.clamps, reference_stages, trial.marker_uv_m);
+    simulated = simulate_reference(reference_sheet(config), lab.truth, config.creases, w, h, trial.clamps, reference_stages, trial.marker_uv_m);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(fmt::format("scanner lab: {} seed {}: {}", config.specimen, config.seed, e.what()));
   }

@@ -35,6 +35,7 @@ struct ScannerLabConfig {
   // Independent model: the grid's largest spacing (m; 0: converged default for the material)
   // and whether the jaws hold the sheet rigidly or let it turn about their centre.
   double grid_spacing_m = 0;
+  double path_grid_spacing_m = 0;  // the clamps' path on this coarser grid (0: default)
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
   // Twin model: the reference mesh; the twin should use a coarser one. Refined near the clamps
   // until the jaws are resolved (twin/trial.h: jaw_refinement_radii_m; on 6000 triangles 0.03
@@ -88,6 +89,20 @@ LabProtocol lab_protocol(double width_m, double height_m, std::mt19937_64& rng);
 // Throws std::invalid_argument when both jaws and radii are asked for.
 twin::SheetMesh lab_reference_mesh(const ScannerLabConfig& config, double width_m, double height_m,
                                    const std::vector<twin::ClampSpec>& clamps);
+
+// What make_lab_trial draws from the seed before it simulates: the specimen and its truth, the
+// trial without stages (sheet, markers, clamps), the stages' true poses and times, and the
+// generator as it then stands (it goes on to draw the noise).
+struct LabSetup {
+  LabSpecimen specimen;
+  twin::Material truth;
+  twin::Trial trial;
+  std::vector<twin::TrialStage> stages;
+  std::mt19937_64 rng;
+};
+LabSetup lab_setup(const ScannerLabConfig& config);
+// The reference sheet the config asks for (lab_reference.h).
+ReferenceSheet reference_sheet(const ScannerLabConfig& config);
 
 // Throws std::runtime_error if the reference simulation fails (naming the stage).
 LabTrial make_lab_trial(const ScannerLabConfig& config);

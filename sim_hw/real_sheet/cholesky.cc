@@ -1,11 +1,30 @@
 #include "sim_hw/real_sheet/cholesky.h"
 
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 
 #include <cholmod.h>
+#include <dlfcn.h>
+#include <omp.h>
 
 namespace sim_hw::real_sheet {
+
+namespace {
+
+// A sheet's supernodes are too small to gain from BLAS threads, and on two cores OpenBLAS's
+// spinning threads and CHOLMOD's fixed OpenMP loops slow a factorisation several times. The
+// BLAS is a run-time choice (libblas.so.3), so OpenBLAS's setter is looked up, not linked.
+void single_threaded_blas() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+  });
+}
+
+}  // namespace
 
 struct Cholesky::State {
   cholmod_common common;
@@ -20,6 +39,10 @@ Cholesky::Cholesky() : state_(std::make_unique<State>()) {
   state_->common.print = 0;
   state_->common.error_handler = nullptr;
   state_->common.quick_return_if_not_posdef = 1;
+  // Nested dissection: less fill than AMD on a grid; analysed once per pattern.
+  state_->common.nmethods = 1;
+  state_->common.method[0].ordering = CHOLMOD_METIS;
+  single_threaded_blas();
 }
 
 Cholesky::~Cholesky() {
@@ -45,6 +68,12 @@ bool Cholesky::factorize(const BlockSparseMatrix& M) {
     s.pattern = M.pattern_id();
   }
   std::memcpy(s.A->x, M.values().data(), sizeof(double) * nnz);
+  // No nested OpenMP level on this thread: CHOLMOD's small parallel loops then run serially.
+  struct SerialNesting {
+    const int saved = omp_get_max_active_levels();
+    SerialNesting() { omp_set_max_active_levels(0); }
+    ~SerialNesting() { omp_set_max_active_levels(saved); }
+  } serial;
   cholmod_factorize(s.A, s.L, &s.common);
   s.usable = s.common.status == CHOLMOD_OK && s.L->minor == static_cast<std::size_t>(n);
   return s.usable;

@@ -11,21 +11,31 @@ using Vec3 = Eigen::Vector3d;
 using Vec15 = Eigen::Matrix<double, 15, 1>;
 using Mat15 = Eigen::Matrix<double, 15, 15>;
 
+// First- and second-derivative weights on three nodes spaced a, b apart.
+void derivative_weights(double a, double b, double first[3], double second[3]) {
+  first[0] = -b / (a * (a + b));
+  first[1] = (b - a) / (a * b);
+  first[2] = a / (b * (a + b));
+  second[0] = 2.0 / (a * (a + b));
+  second[1] = -2.0 / (a * b);
+  second[2] = 2.0 / (b * (a + b));
+}
+
 // The five difference vectors (x_uu, x_vv, x_uv, x_u, x_v) as y = L x with L = C (x) I3; C is
 // 5 x 9 over the stencil's nodes.
-Eigen::Matrix<double, 5, 9> difference_weights(double du, double dv) {
+Eigen::Matrix<double, 5, 9> difference_weights(const BendingNode& node) {
+  double du1[3], du2[3], dv1[3], dv2[3];
+  derivative_weights(node.du_before_m, node.du_after_m, du1, du2);
+  derivative_weights(node.dv_before_m, node.dv_after_m, dv1, dv2);
   Eigen::Matrix<double, 5, 9> C = Eigen::Matrix<double, 5, 9>::Zero();
-  const auto s = [](int di, int dj) { return 3 * (dj + 1) + (di + 1); };
-  C(0, s(-1, 0)) = C(0, s(1, 0)) = 1.0 / (du * du);
-  C(0, s(0, 0)) = -2.0 / (du * du);
-  C(1, s(0, -1)) = C(1, s(0, 1)) = 1.0 / (dv * dv);
-  C(1, s(0, 0)) = -2.0 / (dv * dv);
-  C(2, s(1, 1)) = C(2, s(-1, -1)) = 1.0 / (4 * du * dv);
-  C(2, s(1, -1)) = C(2, s(-1, 1)) = -1.0 / (4 * du * dv);
-  C(3, s(1, 0)) = 1.0 / (2 * du);
-  C(3, s(-1, 0)) = -1.0 / (2 * du);
-  C(4, s(0, 1)) = 1.0 / (2 * dv);
-  C(4, s(0, -1)) = -1.0 / (2 * dv);
+  for (int dj = 0; dj < 3; ++dj) {
+    for (int di = 0; di < 3; ++di) {
+      const int s = 3 * dj + di;
+      if (dj == 1) C(0, s) = du2[di], C(3, s) = du1[di];
+      if (di == 1) C(1, s) = dv2[dj], C(4, s) = dv1[dj];
+      C(2, s) = du1[di] * dv1[dj];
+    }
+  }
   return C;
 }
 
@@ -48,14 +58,14 @@ Mat3 cross_matrix(const Vec3& v) {
 }  // namespace
 
 Eigen::Vector3d stencil_curvature(const Vec27& x, const BendingNode& node) {
-  const Vec15 y = differences(x, difference_weights(node.du_m, node.dv_m));
+  const Vec15 y = differences(x, difference_weights(node));
   const Vec3 n = y.segment<3>(9).cross(y.segment<3>(12)).normalized();
   return Vec3(y.segment<3>(0).dot(n), y.segment<3>(3).dot(n), 2.0 * y.segment<3>(6).dot(n)) - node.rest_k_1_m;
 }
 
 double curvature_bending_energy(const Vec27& x, const BendingNode& node, const Mat3& D, double beta,
                                 Vec27* gradient, Mat27* hessian, Hessian kind) {
-  const Eigen::Matrix<double, 5, 9> C = difference_weights(node.du_m, node.dv_m);
+  const Eigen::Matrix<double, 5, 9> C = difference_weights(node);
   const Vec15 y = differences(x, C);
   const Vec3 p = y.segment<3>(9), q = y.segment<3>(12);
   const Vec3 N = p.cross(q);
@@ -126,14 +136,27 @@ double curvature_bending_energy(const Vec27& x, const BendingNode& node, const M
       Hy.block<3, 3>(12, 9) += c * pq.transpose();
     }
   }
-  // H_x = L^T H_y L with L = C (x) I3.
-  Eigen::Matrix<double, 15, 27> L = Eigen::Matrix<double, 15, 27>::Zero();
-  for (int v = 0; v < 5; ++v) {
-    for (int s = 0; s < 9; ++s) {
-      if (C(v, s) != 0.0) L.block<3, 3>(3 * v, 3 * s) = C(v, s) * Mat3::Identity();
+  // H_x = L^T H_y L with L = C (x) I3: block (s, t) = sum over v, w of C(v, s) C(w, t) H_y(v, w),
+  // over the few non-zero weights of each stencil node.
+  int uses[9][5], use_count[9] = {};
+  for (int t = 0; t < 9; ++t) {
+    for (int v = 0; v < 5; ++v) {
+      if (C(v, t) != 0.0) uses[t][use_count[t]++] = v;
     }
   }
-  *hessian = L.transpose() * Hy * L;
+  for (int t = 0; t < 9; ++t) {
+    for (int s = 0; s <= t; ++s) {
+      Mat3 block = Mat3::Zero();
+      for (int a = 0; a < use_count[s]; ++a) {
+        for (int b = 0; b < use_count[t]; ++b) {
+          const int v = uses[s][a], w = uses[t][b];
+          block += (C(v, s) * C(w, t)) * Hy.block<3, 3>(3 * v, 3 * w);
+        }
+      }
+      hessian->block<3, 3>(3 * s, 3 * t) = block;
+      if (s != t) hessian->block<3, 3>(3 * t, 3 * s) = block.transpose();
+    }
+  }
   return energy;
 }
 

@@ -1,10 +1,12 @@
 #pragma once
 // Bending energy at one interior node of the grid: the second fundamental form by finite
-// differences on the 3 x 3 stencil around the node (a Kirchhoff-Love plate discretised as on a
-// structured grid, with the surface normal, not a hinge angle):
-//   x_uu = (x[i+1,j] - 2 x[i,j] + x[i-1,j]) / du^2,  x_vv likewise along v,
-//   x_uv = (x[i+1,j+1] - x[i+1,j-1] - x[i-1,j+1] + x[i-1,j-1]) / (4 du dv),
-//   x_u, x_v central differences, n = x_u x x_v / |x_u x x_v|,
+// differences on the 3 x 3 stencil around the node (a Kirchhoff-Love plate discretised on a
+// tensor-product grid, with the surface normal, not a hinge angle). With spacings a (to the
+// node before) and b (to the node after) along u:
+//   x_u  = (-b/(a(a+b))) x[i-1] + ((b-a)/(ab)) x[i] + (a/(b(a+b))) x[i+1]   (second order)
+//   x_uu = 2 x[i-1]/(a(a+b)) - 2 x[i]/(ab) + 2 x[i+1]/(b(a+b))
+// likewise along v, x_uv the product of the u and v first differences on the 3 x 3 nodes
+// (on a uniform grid the familiar central differences), n = x_u x x_v / |x_u x x_v|,
 //   k = (x_uu . n, x_vv . n, 2 x_uv . n) - k_rest,
 //   energy = A * 1/2 k^T D k (1 + beta/2 |k|^2),  |k|^2 = k1^2 + k2^2 + k3^2 / 2
 // (A: the node's share of the sheet, m^2; D: 3 x 3 bending matrix, N*m; beta, m^2). For a
@@ -25,9 +27,13 @@ using Vec27 = Eigen::Matrix<double, 27, 1>;
 using Mat27 = Eigen::Matrix<double, 27, 27>;
 
 struct BendingNode {
-  double du_m = 0.01, dv_m = 0.01;
+  double du_before_m = 0.01, du_after_m = 0.01, dv_before_m = 0.01, dv_after_m = 0.01;
   double area_m2 = 1e-4;
   Eigen::Vector3d rest_k_1_m = Eigen::Vector3d::Zero();  // (k_uu, k_vv, 2 k_uv) at rest
+
+  static BendingNode uniform(double du_m, double dv_m, double area_m2) {
+    return BendingNode{du_m, du_m, dv_m, dv_m, area_m2, Eigen::Vector3d::Zero()};
+  }
 };
 
 // The curvature change k (1/m) of the stencil's positions.

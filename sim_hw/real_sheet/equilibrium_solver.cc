@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstdio>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -62,6 +64,7 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
   }
   double mu = options.initial_damping_1_s2;
   const double mu_floor = 1.0;  // 1/s^2: below this a step is Newton's
+  double mu_worked = 0.0;       // the last damping of an accepted step
   int failed_in_a_row = 0;
   VecX x_try;
   const VecX x_start = x;
@@ -79,19 +82,32 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
       report.converged = true;
       return report;
     }
-    // Factorise: exact Hessian while undamped, projected once damped or when the exact one is
-    // not positive definite.
+    // Factorise H + mu M with the exact Hessian. When that is not positive definite (compressed
+    // membrane, a fold past its stable shape) the projected Hessian takes its place at the same
+    // damping (at least the damping that last worked, when there was none): positive
+    // semi-definite, so with mu > 0 it always factorises, and mu is left to the steps' success.
     bool factored = false;
-    for (int attempt = 0; attempt < 40 && !factored; ++attempt) {
-      const Hessian kind = mu == 0.0 ? Hessian::kExact : Hessian::kProjected;
-      model.energy(x, jaws, nullptr, &H, kind, step);
+    for (int attempt = 0; attempt < 2 && !factored; ++attempt) {
+      const bool exact = attempt == 0;
+      if (!exact && mu == 0.0) mu = std::max(mu_floor, 0.25 * mu_worked);
+      model.energy(x, jaws, nullptr, &H, exact ? Hessian::kExact : Hessian::kProjected, step);
       if (mu > 0) H.add_to_diagonal(mu * metric);
       ++report.factorizations;
       factored = cholesky.factorize(H);
-      if (!factored) mu = std::max(mu * 8.0, mu_floor * 64.0);
+    }
+    for (int attempt = 0; attempt < 40 && !factored; ++attempt) {  // only a zero mass left
+      mu = std::max(8.0 * mu, 16.0 * mu_floor);
+      model.energy(x, jaws, nullptr, &H, Hessian::kProjected, step);
+      H.add_to_diagonal(mu * metric);
+      ++report.factorizations;
+      factored = cholesky.factorize(H);
     }
     if (!factored) return fail("no damping made the Hessian positive definite");
     const VecX dx = cholesky.solve(-g);
+    if (std::getenv("REAL_SHEET_TRACE")) {
+      std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g\n", report.iterations, energy, report.max_force_N, mu,
+                   dx.lpNorm<Eigen::Infinity>());
+    }
     if (std::getenv("REAL_SHEET_TRACE")) {
       std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g\n", report.iterations, energy, report.max_force_N, mu,
                    dx.lpNorm<Eigen::Infinity>());
@@ -130,6 +146,7 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
       continue;
     }
     failed_in_a_row = 0;
+    if (mu > 0) mu_worked = mu;
     x = x_try;
     jaws = jaws_try;
     g = g_try;

@@ -63,7 +63,9 @@ JawPad make_jaw_pad(const Grid& grid, const std::string& id, const Vec2& point, 
   pad.id = id;
   pad.kind = kind;
   pad.material_point_m = point;
-  const double spacing = std::min({o.sample_spacing_m, grid.du() / 3, grid.dv() / 3});
+  pad.grip_radius_m = o.grip_radius_m;
+  const Vec2 cell = grid.cell_size_at(point);
+  const double spacing = std::min({o.sample_spacing_m, cell.x() / 3, cell.y() / 3});
   std::vector<std::array<double, 4>> points;  // du, dv (m), area (m^2), hold
   // A pin (radius 0) still holds a small pad, a third of a millimetre, so that it has a centre.
   const double r = std::max(o.grip_radius_m, 3e-4);

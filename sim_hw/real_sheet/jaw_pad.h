@@ -39,6 +39,7 @@ struct JawPad {
   std::string id;
   JawKind kind = JawKind::kRigid;
   Vec2 material_point_m = Vec2::Zero();
+  double grip_radius_m = 0;
   std::vector<JawSample> samples;
   double tangential_share = 1.0;  // tau
 };

@@ -21,8 +21,12 @@ SheetModel::SheetModel(const Grid& grid, const SheetMaterial& material, const st
     markers_.push_back(grid_.locate(uv));
     for (int k = 0; k < 4; ++k) mass_kg_[markers_.back().nodes[k]] += material_.marker_mass_kg * markers_.back().weights[k];
   }
+  cell_colours_.resize(4);
+  stencil_colours_.resize(9);
   for (int j = 0; j + 1 < nv; ++j) {
     for (int i = 0; i + 1 < nu; ++i) {
+      cell_colours_[2 * (j % 2) + i % 2].push_back(static_cast<int>(cells_.size()));
+      cell_sizes_.push_back({grid_.du(i), grid_.dv(j)});
       cells_.push_back({grid_.node(i, j), grid_.node(i + 1, j), grid_.node(i + 1, j + 1), grid_.node(i, j + 1)});
     }
   }
@@ -32,12 +36,18 @@ SheetModel::SheetModel(const Grid& grid, const SheetMaterial& material, const st
       for (int dj = -1; dj <= 1; ++dj) {
         for (int di = -1; di <= 1; ++di) s[3 * (dj + 1) + (di + 1)] = grid_.node(i + di, j + dj);
       }
+      stencil_colours_[3 * (j % 3) + i % 3].push_back(static_cast<int>(stencils_.size()));
       stencils_.push_back(s);
       BendingNode b;
-      b.du_m = grid_.du();
-      b.dv_m = grid_.dv();
-      const double wu = grid_.du() * (1.0 + 0.5 * (i == 1) + 0.5 * (i == nu - 2));
-      const double wv = grid_.dv() * (1.0 + 0.5 * (j == 1) + 0.5 * (j == nv - 2));
+      b.du_before_m = grid_.du(i - 1);
+      b.du_after_m = grid_.du(i);
+      b.dv_before_m = grid_.dv(j - 1);
+      b.dv_after_m = grid_.dv(j);
+      // The node's dual cell, and out to the edge for the first interior row or column.
+      const double wu = 0.5 * (grid_.du(i - 1) + grid_.du(i)) + (i == 1 ? 0.5 * grid_.du(0) : 0.0) +
+                        (i == nu - 2 ? 0.5 * grid_.du(nu - 2) : 0.0);
+      const double wv = 0.5 * (grid_.dv(j - 1) + grid_.dv(j)) + (j == 1 ? 0.5 * grid_.dv(0) : 0.0) +
+                        (j == nv - 2 ? 0.5 * grid_.dv(nv - 2) : 0.0);
       b.area_m2 = wu * wv;
       b.rest_k_1_m = rest_curvature_at(material_, grid_.rest_uv(grid_.node(i, j)));
       bending_.push_back(b);
@@ -82,7 +92,7 @@ BlockSparseMatrix SheetModel::hessian_pattern(const std::vector<JawHold>& jaws) 
 
 CellStrains SheetModel::cell_strains(const VecX& x) const {
   CellStrains e(cells_.size());
-  for (std::size_t c = 0; c < cells_.size(); ++c) e[c] = q4_strains(cell_positions(x, static_cast<int>(c)), grid_.du(), grid_.dv());
+  for (std::size_t c = 0; c < cells_.size(); ++c) e[c] = q4_strains(cell_positions(x, static_cast<int>(c)), cell_sizes_[c][0], cell_sizes_[c][1]);
   return e;
 }
 
@@ -102,35 +112,40 @@ double SheetModel::energy(const VecX& x, const std::vector<JawHold>& jaws, VecX*
   if (step) C_visc.diagonal() << material_.tensile_viscosity_Ns_m, material_.tensile_viscosity_Ns_m,
       material_.shear_viscosity_Ns_m;
   const bool viscous = step && C_visc.norm() > 0;
-  Vec12 gc;
-  Mat12 hc;
-  for (std::size_t c = 0; c < cells_.size(); ++c) {
-    const Vec12 y = cell_positions(x, static_cast<int>(c));
-    energy += q4_membrane_energy(y, grid_.du(), grid_.dv(), C, nullptr, g ? &gc : nullptr, H ? &hc : nullptr, kind);
-    if (g) {
-      for (int a = 0; a < 4; ++a) g->segment<3>(3 * cells_[c][a]) += gc.segment<3>(3 * a);
-    }
-    if (H) H->add(cells_[c].data(), 4, hc);
-    if (viscous) {
-      energy += q4_membrane_energy(y, grid_.du(), grid_.dv(), C_visc / step->dt_s, &step->strain_start[c],
-                                   g ? &gc : nullptr, H ? &hc : nullptr, kind);
-      if (g) {
-        for (int a = 0; a < 4; ++a) g->segment<3>(3 * cells_[c][a]) += gc.segment<3>(3 * a);
+  for (const std::vector<int>& colour : cell_colours_) {
+    const int count = static_cast<int>(colour.size());
+    for (int k = 0; k < count; ++k) {
+      const int c = colour[k];
+      const Vec12 y = cell_positions(x, c);
+      Vec12 gc;
+      Mat12 hc;
+      for (int pass = 0; pass < (viscous ? 2 : 1); ++pass) {
+        energy += pass == 0 ? q4_membrane_energy(y, cell_sizes_[c][0], cell_sizes_[c][1], C, nullptr, g ? &gc : nullptr,
+                                                 H ? &hc : nullptr, kind)
+                            : q4_membrane_energy(y, cell_sizes_[c][0], cell_sizes_[c][1], C_visc / step->dt_s, &step->strain_start[c],
+                                                 g ? &gc : nullptr, H ? &hc : nullptr, kind);
+        if (g) {
+          for (int a = 0; a < 4; ++a) g->segment<3>(3 * cells_[c][a]) += gc.segment<3>(3 * a);
+        }
+        if (H) H->add(cells_[c].data(), 4, hc);
       }
-      if (H) H->add(cells_[c].data(), 4, hc);
     }
   }
 
   // Bending.
-  Vec27 gb;
-  Mat27 hb;
-  for (std::size_t b = 0; b < stencils_.size(); ++b) {
-    energy += curvature_bending_energy(stencil_positions(x, static_cast<int>(b)), bending_[b], D,
-                                       material_.stiffening_m2, g ? &gb : nullptr, H ? &hb : nullptr, kind);
-    if (g) {
-      for (int s = 0; s < 9; ++s) g->segment<3>(3 * stencils_[b][s]) += gb.segment<3>(3 * s);
+  for (const std::vector<int>& colour : stencil_colours_) {
+    const int count = static_cast<int>(colour.size());
+    for (int k = 0; k < count; ++k) {
+      const int b = colour[k];
+      Vec27 gb;
+      Mat27 hb;
+      energy += curvature_bending_energy(stencil_positions(x, b), bending_[b], D, material_.stiffening_m2,
+                                         g ? &gb : nullptr, H ? &hb : nullptr, kind);
+      if (g) {
+        for (int s = 0; s < 9; ++s) g->segment<3>(3 * stencils_[b][s]) += gb.segment<3>(3 * s);
+      }
+      if (H) H->add(stencils_[b].data(), 9, hb);
     }
-    if (H) H->add(stencils_[b].data(), 9, hb);
   }
 
   // Gravity along -z.

@@ -31,7 +31,7 @@ std::vector<JawPad> make_pads(const SheetModel& model, const std::vector<twin::C
 Eigen::Matrix3d frame_at(const SheetModel& model, const VecX& x, const Vec2& uv) {
   const Grid& grid = model.grid();
   const Vec3 p = grid.position(x, grid.locate(uv));
-  const Vec3 pu = grid.position(x, grid.locate(uv + Vec2(grid.du() * 0.5, 0))) - p;
+  const Vec3 pu = grid.position(x, grid.locate(uv + Vec2(grid.cell_size_at(uv).x() * 0.5, 0))) - p;
   const Vec3 n = model.normal_at(x, uv);
   Vec3 u = (pu - pu.dot(n) * n).normalized();
   Eigen::Matrix3d R;
@@ -42,6 +42,33 @@ Eigen::Matrix3d frame_at(const SheetModel& model, const VecX& x, const Vec2& uv)
 }
 
 }  // namespace
+
+VecX carry_to_grid(const SheetModel& from, const VecX& x, const std::vector<JawHold>& holds, const SheetModel& to,
+                   const PathOptions& options, EquilibriumReport* report) {
+  const Grid& a = from.grid();
+  const Grid& b = to.grid();
+  VecX y(3 * b.node_count());
+  for (int n = 0; n < b.node_count(); ++n) y.segment<3>(3 * n) = a.smooth_position(x, b.rest_uv(n));
+  std::vector<JawHold> carried = holds;
+  for (JawHold& j : carried) {
+    JawPadOptions o = options.pad;
+    o.grip_radius_m = j.pad.grip_radius_m;
+    o.extension_m = to.material().pad_extension_m;
+    o.extension_strength = to.material().pad_strength;
+    o.slip_compliance_m_N = to.material().slip_compliance_m_N;
+    j.pad = make_jaw_pad(b, j.pad.id, j.pad.material_point_m, j.pad.kind, o);
+  }
+  EquilibriumReport r = solve_equilibrium(to, y, carried, options.equilibrium);
+  if (!r.converged) {
+    EquilibriumOptions damped = options.equilibrium;
+    damped.initial_damping_1_s2 = 1e4;
+    damped.max_iterations = std::max(damped.max_iterations, 5000);
+    r = solve_equilibrium(to, y, carried, damped);
+  }
+  if (report) *report = r;
+  if (!r.converged) throw std::runtime_error("real sheet: the shape carried to the finer grid did not settle: " + r.message);
+  return y;
+}
 
 LevelPlacement level_placement(const std::vector<twin::ClampSpec>& clamps, const std::vector<twin::ClampPose>& poses) {
   std::vector<Vec2> from, to;
@@ -103,6 +130,8 @@ PathResult simulate_path(SheetModel& model, const std::vector<twin::ClampSpec>& 
     std::vector<JawHold> h = holds();
     EquilibriumOptions o = options.equilibrium;
     o.initial_damping_1_s2 = damping;
+    // A fall is a long overdamped motion (a released corner swings half a metre).
+    if (damping > 0) o.max_iterations = std::max(o.max_iterations, 5000);
     const EquilibriumReport r = solve_equilibrium(model, x, h, o);
     result.iterations += r.iterations;
     result.factorizations += r.factorizations;
@@ -150,12 +179,26 @@ PathResult simulate_path(SheetModel& model, const std::vector<twin::ClampSpec>& 
     }
     const int increments = std::max(1, static_cast<int>(std::ceil(travel / options.increment_m)));
     if (travel == 0 && !fell) report = solve(0.0);
+    VecX previous;  // the last increment's equilibrium, for the secant predictor
     for (int i = 1; i <= increments && travel > 0; ++i) {
       const double t = static_cast<double>(i) / increments;
       for (std::size_t c = 0; c < clamps.size(); ++c) {
         if (held[c]) held[c]->centre_m = start[c] + t * (target[c] - start[c]);
       }
+      // Predictor: equal increments along one straight move change the shape about equally, so
+      // the next equilibrium starts from the last one plus the last change (a secant step); the
+      // corrector then has a shape near the answer, not one with the jaws 2 cm off their patch.
+      const VecX converged = x;
+      if (previous.size() == x.size()) {
+        x += x - previous;
+        if (!std::isfinite(model.energy(x, holds(), nullptr, nullptr, Hessian::kExact))) x = converged;
+      }
       report = solve(0.0);
+      if (!report.converged) {
+        x = converged;
+        report = solve(0.0);
+      }
+      previous = converged;
       if (!report.converged) report = solve(fall_damping);  // a snap: let it move there damped
       if (!report.converged) {
         result.failure = fmt::format("stage {}: increment {} of {}: {}", k + 1, i, increments, report.message);
@@ -176,6 +219,7 @@ PathResult simulate_path(SheetModel& model, const std::vector<twin::ClampSpec>& 
       }
     }
     result.stages.push_back(x);
+    result.holds.push_back(holds());
     result.reports.push_back(report);
   }
   return result;

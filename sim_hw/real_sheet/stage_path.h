@@ -30,6 +30,7 @@ struct PathOptions {
 
 struct PathResult {
   std::vector<VecX> stages;  // equilibrium positions per stage reached
+  std::vector<std::vector<JawHold>> holds;  // per stage, the jaws holding (pivots' turns included)
   std::vector<EquilibriumReport> reports;
   int increments = 0, iterations = 0, factorizations = 0;
   std::string failure;  // "stage 3: ..." when a stage was not reached
@@ -38,6 +39,15 @@ struct PathResult {
 
 PathResult simulate_path(SheetModel& model, const std::vector<twin::ClampSpec>& clamps,
                          const std::vector<PathStage>& stages, const PathOptions& options = {});
+
+// The stage's equilibrium on another grid of the same sheet: the shape `x` of `from` carried over
+// by cubic interpolation in material coordinates (Grid::smooth_position) (the jaws' pads rebuilt on the new grid, at
+// the same poses) and solved there to equilibrium. The branch is the one `x` is on: this is how
+// the lab puts a path followed on a coarse grid onto the fine grid it reports, and how the
+// refinement study compares grids on one branch. `to` must be at the age the stage was solved
+// at. Throws std::runtime_error when the solve does not converge.
+VecX carry_to_grid(const SheetModel& from, const VecX& x, const std::vector<JawHold>& holds, const SheetModel& to,
+                   const PathOptions& options = {}, EquilibriumReport* report = nullptr);
 
 // The level placement of the flat sheet for stage-1 clamp positions: rotation about z and shift
 // fitting the engaged clamps' material points by least squares, at their mean height. Returns

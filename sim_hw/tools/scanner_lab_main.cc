@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
                  "twin's shell model (the lab before issue 33)");
   app.add_option("--grid-spacing-m", config.grid_spacing_m,
                  "independent model: largest grid spacing (m; default: converged for the material)");
+  app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m,
+                 "independent model: grid spacing (m) the clamps' path is followed on (default: for the material)");
   app.add_option("--jaws", jaws, "independent model: rigid (default) or pivot (the sheet turns in the jaws)");
   app.add_option("--reference-triangles", config.reference_triangles, "twin model: triangles of the reference sheet");
   std::string reference_refinement = "jaws";

@@ -39,7 +39,7 @@ int run_generator(const std::vector<std::string>& args, const fs::path& log) {
 std::vector<std::string> blind_args(std::uint64_t seed, const fs::path& trials, const fs::path& truth,
                                     const std::string& effect) {
   return {"blind", "--seed", std::to_string(seed), "--out", trials.string(), "--truth", truth.string(),
-          "--triangles", std::to_string(kTriangles), "--effect", effect};
+          "--truth-model", "twin", "--triangles", std::to_string(kTriangles), "--effect", effect};
 }
 
 // Every file under `directory`, by path relative to it, with its bytes.
@@ -330,6 +330,7 @@ TEST_CASE("for one seed every effect gives the same trial.json: only the sheet's
   for (const std::string& effect : sim_hw::blind_effect_names()) {
     sim_hw::BlindSetConfig config;
     config.seed = 41;
+    config.truth_model = sim_hw::TruthModel::kTwin;
     config.triangles = kTriangles;
     config.forced_effect = effect;
     config.measure_effect = false;

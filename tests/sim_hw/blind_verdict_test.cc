@@ -50,7 +50,7 @@ BlindRun generate_and_diagnose(const testing_support::TempDir& dir, std::uint64_
   const fs::path trials = dir / "trials", truth = dir / "truth", report = dir / "report";
   const int generated = run(SCANNER_LAB_EXE,
                             {"blind", "--seed", std::to_string(seed), "--out", trials.string(), "--truth",
-                             truth.string(), "--effect", effect, "--triangles", kTriangles},
+                             truth.string(), "--effect", effect, "--truth-model", "twin", "--triangles", kTriangles},
                             dir / "generate.txt");
   REQUIRE(generated == 0);
   const int diagnosed = run(TWIN_EXE,

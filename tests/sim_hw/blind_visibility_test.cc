@@ -20,6 +20,7 @@ constexpr int kTriangles = 100;
 sim_hw::BlindTrialSet make_set(std::uint64_t seed, const std::string& effect) {
   sim_hw::BlindSetConfig config;
   config.seed = seed;
+  config.truth_model = sim_hw::TruthModel::kTwin;  // effects as the twin itself makes them
   config.triangles = kTriangles;
   config.forced_effect = effect;
   return sim_hw::make_blind_trial_set(config);

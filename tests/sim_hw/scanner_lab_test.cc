@@ -16,6 +16,7 @@ ScannerLabConfig small_lab(std::uint64_t seed) {
   ScannerLabConfig config;
   config.specimen = "composite";
   config.seed = seed;
+  config.truth_model = TruthModel::kTwin;  // the protocol and noise do not depend on the model
   config.reference_triangles = 300;  // coarse, for test speed; trials for identification use more
   config.reference_resolves_jaws = false;  // the uniform mesh, the twin's kind
   config.scan_points_per_marker = 40;

@@ -1,7 +1,9 @@
 #pragma once
-// The scanner lab as the identification and diagnosis tests use it: the composite on a uniform
-// reference mesh of `triangles` (the kind the twin uses, so the twin can match it to the noise;
-// the lab's own default resolves the jaws, sim_hw/scanner_lab.h), no raw scans (faster).
+// The scanner lab as the identification and diagnosis tests of the workflow use it: the
+// composite simulated by the twin's own model on a uniform reference mesh of `triangles` (so
+// the twin can match it to the noise: these tests check the workflow's mechanics, not the
+// twin's accuracy against a sheet it does not share; the lab's default is the independent
+// sheet, sim_hw/lab_reference.h), no raw scans (faster).
 
 #include <cstdint>
 

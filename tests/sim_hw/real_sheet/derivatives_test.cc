@@ -91,14 +91,15 @@ TEST_CASE("real sheet: Q4 membrane gradient and Hessian match finite differences
 
 TEST_CASE("real sheet: curvature bending gradient and Hessian match finite differences", "[real_sheet]") {
   std::mt19937_64 rng(11);
-  rs::BendingNode node;
-  node.du_m = 0.02;
-  node.dv_m = 0.025;
-  node.area_m2 = 1.5 * node.du_m * node.dv_m;
-  node.rest_k_1_m = Eigen::Vector3d(0.8, -0.3, 0.4);
+  // Unequal spacings on each side, as a graded grid has them.
+  rs::BendingNode node{0.02, 0.026, 0.025, 0.019, 1.5 * 0.02 * 0.025, Eigen::Vector3d(0.8, -0.3, 0.4)};
   Eigen::Matrix3d D;
   D << 8e-4, 2e-4, 0, 2e-4, 5e-4, 0, 0, 0, 3e-4;
-  const Eigen::VectorXd x = curved(3, 3, node.du_m, node.dv_m, rng);
+  Eigen::VectorXd x = curved(3, 3, 0.02, 0.025, rng);
+  for (int s = 0; s < 9; ++s) {  // onto the unequal spacings
+    x[3 * s] += (s % 3 == 2 ? 0.006 : 0.0);
+    x[3 * s + 1] += (s / 3 == 0 ? 0.006 : 0.0);
+  }
   for (const double beta : {0.0, 0.05}) {
     const auto f = [&](const Eigen::VectorXd& y, Eigen::VectorXd* g, Eigen::MatrixXd* h) {
       rs::Vec27 gg;
@@ -117,7 +118,9 @@ TEST_CASE("real sheet: curvature bending gradient and Hessian match finite diffe
     rs::BendingNode flat = node;
     flat.rest_k_1_m.setZero();
     Eigen::VectorXd plane(27);
-    for (int s = 0; s < 9; ++s) plane.segment<3>(3 * s) = Eigen::Vector3d((s % 3) * flat.du_m, (s / 3) * flat.dv_m, 0);
+    const double us[3] = {0.0, flat.du_before_m, flat.du_before_m + flat.du_after_m};
+    const double vs[3] = {0.0, flat.dv_before_m, flat.dv_before_m + flat.dv_after_m};
+    for (int s = 0; s < 9; ++s) plane.segment<3>(3 * s) = Eigen::Vector3d(us[s % 3], vs[s / 3], 0);
     // A rigid turn of the flat stencil.
     const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     for (int s = 0; s < 9; ++s) plane.segment<3>(3 * s) = R * plane.segment<3>(3 * s);
@@ -139,7 +142,7 @@ TEST_CASE("real sheet: jaw pads' gradient and Hessian match finite differences, 
   options.extension_m = 0.02;
   options.extension_strength = 0.7;
   options.slip_compliance_m_N = 0.5;
-  const Eigen::VectorXd x = curved(grid.nu(), grid.nv(), grid.du(), grid.dv(), rng, 3e-3);
+  const Eigen::VectorXd x = curved(grid.nu(), grid.nv(), grid.du(0), grid.dv(0), rng, 3e-3);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, -1, 0.5).normalized()).toRotationMatrix();
   const rs::Vec3 c(0.04, 0.05, 0.1);
   for (const rs::JawKind kind : {rs::JawKind::kRigid, rs::JawKind::kPivot}) {
@@ -189,7 +192,7 @@ TEST_CASE("real sheet: the assembled model's derivatives match finite difference
   const rs::Grid grid(0.12, 0.1, 0.03);
   rs::SheetModel model(grid, rs::sheet_material_from(m), {rs::Vec2(0.05, 0.05), rs::Vec2(0.1, 0.02)});
   model.set_age_s(60);
-  const Eigen::VectorXd x = curved(grid.nu(), grid.nv(), grid.du(), grid.dv(), rng, 2e-3);
+  const Eigen::VectorXd x = curved(grid.nu(), grid.nv(), grid.du(0), grid.dv(0), rng, 2e-3);
   rs::JawPadOptions o;
   o.grip_radius_m = 0.02;
   o.pad_stiffness_N_m3 = 1e5;
@@ -227,11 +230,9 @@ TEST_CASE("real sheet: the assembled model's derivatives match finite difference
 
 TEST_CASE("real sheet: the checker catches a planted bug in the bending Hessian", "[real_sheet]") {
   std::mt19937_64 rng(13);
-  rs::BendingNode node;
-  node.du_m = node.dv_m = 0.02;
-  node.area_m2 = 4e-4;
+  const rs::BendingNode node = rs::BendingNode::uniform(0.02, 0.02, 4e-4);
   const Eigen::Matrix3d D = Eigen::Vector3d(1e-3, 1e-3, 3.5e-4).asDiagonal();
-  const Eigen::VectorXd x = curved(3, 3, node.du_m, node.dv_m, rng);
+  const Eigen::VectorXd x = curved(3, 3, 0.02, 0.02, rng);
   const auto f = [&](const Eigen::VectorXd& y, Eigen::VectorXd* g, Eigen::MatrixXd* h) {
     rs::Vec27 gg;
     rs::Mat27 hh;
