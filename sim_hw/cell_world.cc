@@ -16,7 +16,7 @@ using Clock = std::chrono::steady_clock;
 
 CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus) : config_(std::move(config)), bus_(bus) {
   const WorldStart start = plan_world_start(config_);
-  sheet_ = std::make_unique<TrueSheet>(config_.sheet, config_.material);
+  sheet_ = std::make_unique<TrueSheet>(config_.sheet, config_.material, config_.truth);
   load_report_ = sheet_->load(start.grasps);
   for (const drivers::ArmConfig& arm : config_.hardware.arms)
     arms_.push_back(std::make_unique<SimulatedArm>(arm, start.arm_q.at(arm.name)));

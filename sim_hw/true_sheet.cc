@@ -7,11 +7,15 @@
 
 #include <omp.h>
 
+#include "twin/scenario.h"
+
 namespace sim_hw {
 
-TrueSheet::TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material)
-    : model_(sheet.mesh, material), placement_(sheet.placement) {
-  x_ = twin::place_flat(model_.mesh(), placement_);
+TrueSheet::TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material, const TrueSheetOptions& options)
+    : physics_(make_true_sheet_physics(sheet, material, options)), placement_(sheet.placement) {
+  const twin::SheetMesh& mesh = physics_->mesh();
+  x_ = twin::VecX(3 * mesh.vertex_count());
+  for (int i = 0; i < mesh.vertex_count(); ++i) x_.segment<3>(3 * i) = placement_.to_world(mesh.rest_uv[i]);
   v_ = twin::VecX::Zero(x_.size());
   published_x_ = x_;
 }
@@ -19,39 +23,42 @@ TrueSheet::TrueSheet(const twin::SheetSpec& sheet, const twin::Material& materia
 namespace {
 
 // The world is one physics thread next to the camera threads and the cell process on 2 shared
-// cores: the twin's element loops run single-threaded here (an OpenMP team per step only adds
-// waiting when the cores are busy). The setting is per thread, so each solving thread makes it.
+// cores: element loops run single-threaded here (an OpenMP team per step only adds waiting when
+// the cores are busy). The setting is per thread, so each solving thread makes it.
 void single_threaded_elements() { omp_set_num_threads(1); }
 
 }  // namespace
 
 twin::SolveReport TrueSheet::load(const std::vector<HeldGrasp>& grasps) {
   single_threaded_elements();
+  const auto start = std::chrono::steady_clock::now();
   std::vector<twin::ClampSpec> specs;
   for (const HeldGrasp& g : grasps) specs.push_back(g.clamp);
-  twin::ClampSet set;
-  try {
-    set = twin::ClampSet(model_.mesh(), specs);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(std::string("initial load: ") + e.what());
-  }
+  if (!physics_->clamps_compatible(specs)) throw std::runtime_error("initial load: two grasps hold one patch");
   std::vector<twin::ClampPose> held(grasps.size());
   for (std::size_t i = 0; i < grasps.size(); ++i) {
     held[i].position_m = grasps[i].patch_pose.translation();
     held[i].rotation = grasps[i].patch_pose.linear();
   }
   // One static solve from the flat sheet with the patches at their holds: the operator hands the
-  // ply over and lets it settle (the solver's settle() fallback is that fall, made quasi-static).
-  // A quasi-static continuation from the flat sheet's grasp points took 10x longer at 2000
-  // triangles (24.8 s against about 2 s) for the same start.
-  twin::VecX x = twin::place_flat(model_.mesh(), placement_);
-  // Only for the clamp effects the material has (see cell_twin.cc).
-  model_.set_clamps_of_material_effects(set);
-  twin::StaticSolver statics(model_);
-  const twin::SolveReport report = statics.solve(set, held, x);
-  if (!report.usable())
-    throw std::runtime_error(std::string("initial load: the hanging equilibrium was not found (") +
-                             to_string(report.status) + (report.message.empty() ? "" : ": " + report.message) + ")");
+  // ply over and lets it settle. A quasi-static continuation from the flat sheet's grasp points
+  // took 10x longer (twin model, 2000 triangles: 24.8 s against about 2 s) for the same start.
+  twin::VecX x(x_.size());
+  const twin::SheetMesh& mesh = physics_->mesh();
+  for (int i = 0; i < mesh.vertex_count(); ++i) x.segment<3>(3 * i) = placement_.to_world(mesh.rest_uv[i]);
+  TrueSheetPhysics::Settled settled;
+  try {
+    settled = physics_->settle(specs, held, x);
+  } catch (const std::invalid_argument& e) {
+    settled.failure = e.what();
+  }
+  if (!settled.failure.empty()) {
+    throw std::runtime_error("initial load: the hanging equilibrium was not found (" + settled.failure + ")");
+  }
+  twin::SolveReport report;
+  report.status = twin::SolveStatus::kConverged;
+  report.iterations = settled.iterations;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard lock(mutex_);
   x_ = x;
   v_.setZero();
@@ -68,26 +75,19 @@ bool TrueSheet::grip(const std::string& name, const Eigen::Isometry3d& jaw_pose,
   std::lock_guard lock(mutex_);
   if (grips_.count(name)) return true;
   const twin::Vec3 jaw = jaw_pose.translation();
+  const twin::SheetMesh& mesh = physics_->mesh();
   int nearest = -1;
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < model_.vertex_count(); ++i) {
+  for (int i = 0; i < mesh.vertex_count(); ++i) {
     const double d = (twin::vertex(published_x_, i) - jaw).norm();
     if (d < best) best = d, nearest = i;
   }
   if (nearest < 0 || best > capture_m) return false;  // closes on nothing
-  twin::ClampSpec spec{name, model_.mesh().rest_uv[nearest], radius_m};
+  twin::ClampSpec spec{name, mesh.rest_uv[nearest], radius_m};
   std::vector<twin::ClampSpec> specs = specs_locked();
   specs.push_back(spec);
-  try {
-    const twin::ClampSet check(model_.mesh(), specs);  // refuses a patch another gripper holds
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-  const twin::Clamp clamp(model_.mesh(), spec);
-  Eigen::Isometry3d patch = Eigen::Isometry3d::Identity();
-  patch.translation() = clamp.material_point_position(published_x_);
-  patch.linear() = clamp.material_frame(published_x_);
-  grips_[name] = Grip{spec, jaw_pose.inverse() * patch, jaw_pose};
+  if (!physics_->clamps_compatible(specs)) return false;  // another gripper holds that patch
+  grips_[name] = Grip{spec, jaw_pose.inverse() * physics_->patch_pose(spec, published_x_), jaw_pose};
   grips_changed_ = true;
   return true;
 }
@@ -147,22 +147,10 @@ void TrueSheet::step(double dt_s) {
   single_threaded_elements();
   const auto start = std::chrono::steady_clock::now();
   std::string failure;
-  if (changed || !clamps_) {
-    // A new set of holding clamps; a fresh stepper takes each clamp's start from the sheet.
-    try {
-      clamps_ = std::make_unique<twin::ClampSet>(model_.mesh(), specs);
-      // Before the stepper builds its sparsity pattern; only for the material's clamp effects.
-      model_.set_clamps_of_material_effects(*clamps_);
-      stepper_ = std::make_unique<twin::ImplicitStepper>(model_);
-    } catch (const std::invalid_argument& e) {
-      failure = e.what();
-      clamps_.reset();
-    }
-  }
-  twin::SolveReport report;
-  if (clamps_) {
-    report = stepper_->step(x_, v_, dt_s, *clamps_, poses, step_options_);
-    if (!report.usable()) failure = report.message.empty() ? to_string(report.status) : report.message;
+  try {
+    failure = physics_->step(specs, poses, changed, dt_s, x_, v_);
+  } catch (const std::invalid_argument& e) {
+    failure = e.what();
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard lock(mutex_);
@@ -170,11 +158,11 @@ void TrueSheet::step(double dt_s) {
   stats_.last_step_ms = ms;
   stats_.max_step_ms = std::max(stats_.max_step_ms, ms);
   if (!failure.empty()) {
-    ++stats_.failures;  // the state stays as it was (the stepper leaves x, v unchanged)
+    ++stats_.failures;  // the state stays as it was (the physics leaves x, v unchanged)
     stats_.last_failure = failure;
     return;
   }
-  stats_.last_substeps = stepper_->last_substeps();
+  stats_.last_substeps = physics_->last_substeps();
   published_x_ = x_;
   ++version_;
 }
@@ -201,7 +189,7 @@ double TrueSheet::sag_m() const {
   double mean_z = 0;
   for (const auto& p : poses) mean_z += p.position_m.z() / static_cast<double>(poses.size());
   double min_z = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < model_.vertex_count(); ++i) min_z = std::min(min_z, published_x_[3 * i + 2]);
+  for (int i = 0; i < published_x_.size() / 3; ++i) min_z = std::min(min_z, published_x_[3 * i + 2]);
   return mean_z - min_z;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
-// The fake world's true sheet: the twin's shell model with the truth material, advanced in real
-// time by the implicit stepper (linearised backward Euler), held by whichever grippers are
-// closed on it. A gripper that closes grips the sheet's material point nearest its jaw (within a
+// The fake world's true sheet: the truth material in the independent plate model (or, by
+// config, the twin's own shell model; true_sheet_physics.h), advanced in real time by
+// linearised backward Euler, held by whichever grippers are closed on it. A gripper that closes grips the sheet's material point nearest its jaw (within a
 // capture distance) as that patch lies at that moment, and then carries the patch rigidly with
 // the jaw (position and turn); a gripper that opens lets go and the sheet swings under its own
 // physics.
@@ -20,11 +20,10 @@
 
 #include <Eigen/Geometry>
 
+#include "sim_hw/true_sheet_physics.h"
 #include "twin/clamp.h"
-#include "twin/implicit_stepper.h"
-#include "twin/static_solver.h"
-#include "twin/shell_model.h"
 #include "twin/sheet_spec.h"
+#include "twin/solve_report.h"
 
 namespace sim_hw {
 
@@ -47,8 +46,9 @@ struct StepStats {
 
 class TrueSheet {
  public:
-  // Throws std::invalid_argument for an invalid mesh or material.
-  TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material);
+  // Throws std::invalid_argument for an invalid mesh or material, or a sheet the model cannot
+  // take (true_sheet_physics.h).
+  TrueSheet(const twin::SheetSpec& sheet, const twin::Material& material, const TrueSheetOptions& options = {});
 
   // Places the flat sheet, holds the grasps' patches at their held poses and solves the static
   // equilibrium (twin StaticSolver, settling when Newton alone stalls), so the sheet starts at
@@ -68,7 +68,7 @@ class TrueSheet {
   // One real-time step of dt_s (physics thread).
   void step(double dt_s);
 
-  const twin::SheetMesh& mesh() const { return model_.mesh(); }
+  const twin::SheetMesh& mesh() const { return physics_->mesh(); }
   twin::VecX positions() const;  // the latest state (3n, m)
   std::uint64_t version() const; // increments with every state change
   StepStats stats() const;
@@ -84,12 +84,9 @@ class TrueSheet {
   std::vector<twin::ClampSpec> specs_locked() const;
   std::vector<twin::ClampPose> poses_locked() const;
 
-  twin::ShellModel model_;
+  std::unique_ptr<TrueSheetPhysics> physics_;
   twin::SheetPlacement placement_;
   twin::VecX x_, v_;  // physics thread's state
-  std::unique_ptr<twin::ClampSet> clamps_;
-  std::unique_ptr<twin::ImplicitStepper> stepper_;
-  twin::StepOptions step_options_ = twin::linearized_step_options();
 
   mutable std::mutex mutex_;  // guards everything below
   std::map<std::string, Grip> grips_;

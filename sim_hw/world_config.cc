@@ -22,9 +22,17 @@ double optional_positive(const JsonField& parent, const char* key, double fallba
 
 void read_physics(const JsonField& w, WorldConfig& c) {
   if (auto p = w.optional("physics")) {
-    p->only_keys({"dt_s", "truth_hz"});
+    p->only_keys({"dt_s", "truth_hz", "truth_model", "grid_spacing_m"});
     c.dt_s = optional_positive(*p, "dt_s", c.dt_s, "s");
     c.truth_hz = optional_positive(*p, "truth_hz", c.truth_hz, "Hz");
+    if (auto m = p->optional("truth_model")) {
+      try {
+        c.truth.model = parse_truth_model(m->string(), "truth_model");
+      } catch (const std::invalid_argument&) {
+        m->fail("must be \"independent\" (the plate model sharing nothing with the twin) or \"twin\"");
+      }
+    }
+    c.truth.grid_spacing_m = optional_positive(*p, "grid_spacing_m", c.truth.grid_spacing_m, "m");
     if (c.dt_s > 0.1) (*p)["dt_s"].fail("must be at most 0.1 s (the world runs in real time)");
   }
   if (auto a = w.optional("arms")) {

@@ -4,7 +4,9 @@
 // not know: the true sheet and material, the true camera poses, how the devices are emulated.
 //   {"sheet": {...},                       (twin/sheet_spec.h; the true sheet's own mesh)
 //    "material_file": "composite_truth.json",   (relative to this file; twin material file)
-//    "physics": {"dt_s": 0.0333, "truth_hz": 5},     (step, s; SIM_SHEET_TRUTH rate, Hz)
+//    "physics": {"dt_s": 0.0333, "truth_hz": 5,      (step, s; SIM_SHEET_TRUTH rate, Hz)
+//                "truth_model": "independent",       (or "twin": the true sheet's physics,
+//                "grid_spacing_m": 0.04},             true_sheet_physics.h; independent grid, m)
 //    "arms": {"status_hz": 100},                     (IIWA_STATUS_<ARM> rate = follow rate, Hz)
 //    "grippers": {"status_hz": 50, "capture_distance_m": 0.03,  (CLOSE grips within this, m)
 //                 "grip_radius_m": 0.02, "open_width_m": 0.06}, (clamp patch, m; jaw opening, m)
@@ -29,6 +31,7 @@
 #include "drivers/depth_camera.h"
 #include "sim_hw/d415_error_model.h"
 #include "sim_hw/render_scene.h"
+#include "sim_hw/true_sheet_physics.h"
 #include "twin/grasp_plan.h"
 #include "twin/material.h"
 #include "twin/sheet_spec.h"
@@ -49,6 +52,7 @@ struct WorldConfig {
   twin::Material material;
   double dt_s = 1.0 / 30.0;
   double truth_hz = 5.0;
+  TrueSheetOptions truth;  // which physics the true sheet follows
   double arm_status_hz = 100.0;
   double gripper_status_hz = 50.0;
   double capture_distance_m = 0.03;

@@ -14,7 +14,7 @@ BenchRobots::BenchRobots(const sim_hw::WorldConfig& config, drivers::LcmBus& bus
   // The same start as CellWorld's: arms at the IK solutions of the plan's hold positions, the
   // ply hanging from the grippers that have a grasp.
   const sim_hw::WorldStart start = sim_hw::plan_world_start(config_);
-  sheet_ = std::make_unique<sim_hw::TrueSheet>(config_.sheet, config_.material);
+  sheet_ = std::make_unique<sim_hw::TrueSheet>(config_.sheet, config_.material, config_.truth);
   sheet_->load(start.grasps);
   for (const drivers::ArmConfig& arm : config_.hardware.arms)
     arms_.push_back(std::make_unique<sim_hw::SimulatedArm>(arm, start.arm_q.at(arm.name)));

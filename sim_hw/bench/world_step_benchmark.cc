@@ -36,10 +36,12 @@ int main(int argc, char** argv) {
 
   const sim_hw::WorldConfig config = sim_hw::read_world_config(cell, world);
   const sim_hw::WorldStart start = sim_hw::plan_world_start(config);
-  sim_hw::TrueSheet sheet(config.sheet, config.material);
+  sim_hw::TrueSheet sheet(config.sheet, config.material, config.truth);
   const twin::SolveReport load = sheet.load(start.grasps);
-  fmt::print("{}: initial load {:.2f} s, {} Newton iterations, sag {:.3f} m\n", config.sheet.description,
-             load.seconds, load.iterations, sheet.sag_m());
+  fmt::print("{} truth ({} vertices, {} triangles) of the {}: initial load {:.2f} s, {} Newton iterations, sag "
+             "{:.3f} m\n",
+             sim_hw::to_string(config.truth.model), sheet.mesh().vertex_count(), sheet.mesh().triangle_count(),
+             config.sheet.description, load.seconds, load.iterations, sheet.sag_m());
   const sim_hw::HeldGrasp* moving = nullptr;
   for (const auto& g : start.grasps)
     if (g.clamp.id == "LEFT") moving = &g;

@@ -111,9 +111,9 @@ double curvature_bending_energy(const Vec27& x, const BendingNode& node, const M
   if (kind == Hessian::kProjected) {
     const Eigen::SelfAdjointEigenSolver<Mat3> eig(Psi);
     Psi = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
-    Hy = node.area_m2 * J.transpose() * Psi * J;
+    Hy = node.area_m2 * J.transpose().lazyProduct(Psi * J);
   } else {
-    Hy = node.area_m2 * J.transpose() * Psi * J;
+    Hy = node.area_m2 * J.transpose().lazyProduct(Psi * J);
     // + sum_i m_i d2k_i/dy2.
     for (int i = 0; i < 3; ++i) {
       const double c = node.area_m2 * m[i] * scale[i];

@@ -9,7 +9,6 @@
 
 #include <fmt/format.h>
 
-#include "sim_hw/real_sheet/cholesky.h"
 
 namespace sim_hw::real_sheet {
 namespace {
@@ -34,8 +33,26 @@ std::vector<JawHold> turned(const std::vector<JawHold>& jaws, const VecX& dx, in
 
 }  // namespace
 
+SolveWorkspace::SolveWorkspace() : cholesky_(std::make_unique<Cholesky>()) {}
+SolveWorkspace::~SolveWorkspace() = default;
+
+BlockSparseMatrix& SolveWorkspace::pattern(const SheetModel& model, const std::vector<JawHold>& jaws) {
+  std::vector<std::vector<int>> key;
+  for (const JawHold& j : jaws) {
+    key.push_back(pad_nodes(j.pad));
+    key.back().push_back(j.pad.kind == JawKind::kPivot ? -1 : -2);
+  }
+  if (!built_ || key != key_) {
+    pattern_ = model.hessian_pattern(jaws);
+    key_ = std::move(key);
+    built_ = true;
+  }
+  return pattern_;
+}
+
 EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vector<JawHold>& jaws,
-                                    const EquilibriumOptions& options, const StepTerms* step) {
+                                    const EquilibriumOptions& options, const StepTerms* step,
+                                    SolveWorkspace* workspace) {
   EquilibriumReport report;
   const int n = model.node_count();
   const double tolerance_N = options.force_tolerance * model.total_weight_N();
@@ -54,14 +71,17 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
       ++pivot;
     }
   }
-  BlockSparseMatrix H = model.hessian_pattern(jaws);
-  Cholesky cholesky;
+  SolveWorkspace local;
+  SolveWorkspace& work = workspace ? *workspace : local;
+  BlockSparseMatrix& H = work.pattern(model, jaws);
+  Cholesky& cholesky = work.cholesky();
   VecX g;
   double energy = model.energy(x, jaws, &g, nullptr, Hessian::kExact, step);
   if (!std::isfinite(energy)) {
     report.message = "the starting shape has no finite energy";
     return report;
   }
+  const double start_energy = energy;
   double mu = options.initial_damping_1_s2;
   const double mu_floor = 1.0;  // 1/s^2: below this a step is Newton's
   double mu_worked = 0.0;       // the last damping of an accepted step
@@ -87,9 +107,9 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
     // damping (at least the damping that last worked, when there was none): positive
     // semi-definite, so with mu > 0 it always factorises, and mu is left to the steps' success.
     bool factored = false;
-    for (int attempt = 0; attempt < 2 && !factored; ++attempt) {
+    for (int attempt = options.projected_hessian ? 1 : 0; attempt < 2 && !factored; ++attempt) {
       const bool exact = attempt == 0;
-      if (!exact && mu == 0.0) mu = std::max(mu_floor, 0.25 * mu_worked);
+      if (!exact && mu == 0.0 && !options.projected_hessian) mu = std::max(mu_floor, 0.25 * mu_worked);
       model.energy(x, jaws, nullptr, &H, exact ? Hessian::kExact : Hessian::kProjected, step);
       if (mu > 0) H.add_to_diagonal(mu * metric);
       ++report.factorizations;
@@ -158,7 +178,13 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
     }
   }
   report.max_force_N = max_block_norm(g);
+  report.energy_J = energy;
   report.converged = report.max_force_N <= tolerance_N;
+  if (!report.converged && options.keep_on_limit && report.energy_J <= start_energy && std::isfinite(report.energy_J)) {
+    report.budget_used = true;
+    report.message = "iteration budget used";
+    return report;
+  }
   if (!report.converged) {
     return fail(fmt::format("iteration limit ({}) at force {:.3g} N", options.max_iterations, report.max_force_N));
   }

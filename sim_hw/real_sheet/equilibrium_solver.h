@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+
+#include "sim_hw/real_sheet/cholesky.h"
 #include "sim_hw/real_sheet/sheet_model.h"
 
 namespace sim_hw::real_sheet {
@@ -25,18 +28,43 @@ struct EquilibriumOptions {
   double step_tolerance_m = 1e-10;
   int max_iterations = 400;
   double initial_damping_1_s2 = 0.0;  // mu to start with (0: plain Newton first)
+  // A real-time step's budget: at the iteration limit keep the last accepted iterate (its energy
+  // is below the start's) instead of failing; the report says "iteration budget used".
+  bool keep_on_limit = false;
+  // Projected Hessian only (no exact attempt): for implicit steps, whose inertia makes it
+  // positive definite and a good model, at half the factorisations.
+  bool projected_hessian = false;
 };
 
 struct EquilibriumReport {
   bool converged = false;
+  bool budget_used = false;  // keep_on_limit: stopped at the limit, the state kept
   int iterations = 0, factorizations = 0;
   double max_force_N = 0;
   double energy_J = 0;
   std::string message;  // why it stopped when not converged
 };
 
+// The Hessian's pattern and its Cholesky analysis, kept between solves with the same jaws (a
+// real-time stepper's every step): rebuilding them costs more than a step's factorisation.
+class SolveWorkspace {
+ public:
+  SolveWorkspace();
+  ~SolveWorkspace();
+  // The pattern for these jaws, rebuilt only when their pads' nodes or kinds changed.
+  BlockSparseMatrix& pattern(const SheetModel& model, const std::vector<JawHold>& jaws);
+  Cholesky& cholesky() { return *cholesky_; }
+
+ private:
+  std::vector<std::vector<int>> key_;
+  BlockSparseMatrix pattern_;
+  std::unique_ptr<Cholesky> cholesky_;
+  bool built_ = false;
+};
+
 // x (3 n, m) and the pivot jaws' rotations are updated in place on success.
 EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vector<JawHold>& jaws,
-                                    const EquilibriumOptions& options = {}, const StepTerms* step = nullptr);
+                                    const EquilibriumOptions& options = {}, const StepTerms* step = nullptr,
+                                    SolveWorkspace* workspace = nullptr);
 
 }  // namespace sim_hw::real_sheet

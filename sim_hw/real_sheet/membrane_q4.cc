@@ -13,7 +13,7 @@ struct GaussPoint {
 
 // The 2 x 2 Gauss points of the cell [0, du] x [0, dv] (at 1/2 -+ 1/(2 sqrt 3) of each side).
 std::array<GaussPoint, 4> gauss_points(double du, double dv) {
-  const double g0 = 0.5 - 0.5 / std::sqrt(3.0), g1 = 0.5 + 0.5 / std::sqrt(3.0);
+  constexpr double g0 = 0.21132486540518711775, g1 = 0.78867513459481288225;  // 1/2 -+ 1/(2 sqrt 3)
   const double xi[4] = {g0, g1, g1, g0}, eta[4] = {g0, g0, g1, g1};
   std::array<GaussPoint, 4> points;
   for (int p = 0; p < 4; ++p) {
@@ -71,7 +71,7 @@ double q4_membrane_energy(const Vec12& x, double du_m, double dv_m, const Eigen:
     }
     if (gradient) *gradient += weight * B.transpose() * S;
     if (!hessian) continue;
-    *hessian += weight * B.transpose() * K * B;
+    *hessian += weight * B.transpose().lazyProduct(K * B);
     // Geometric stiffness: sum over nodes a, b of (grad N_a^T S grad N_b) I3, S as a 2 x 2 tensor.
     Eigen::Matrix2d stress;
     stress << S[0], S[2], S[2], S[1];
