@@ -177,7 +177,7 @@ double bending_length_m(const twin::Material& m) {
 
 }  // namespace
 
-double independent_grid_spacing_m(const twin::Material& m) { return std::min(0.01, 0.15 * bending_length_m(m)); }
+double independent_grid_spacing_m(const twin::Material& m) { return std::min(0.02, 0.3 * bending_length_m(m)); }
 
 double independent_path_spacing_m(const twin::Material& m) { return std::min(0.03, 0.5 * bending_length_m(m)); }
 

@@ -49,9 +49,11 @@ struct ReferenceStages {
   int size = 0;             // triangles (twin) or grid nodes (independent)
 };
 
-// The independent model's default grid spacing (m) for a material, from the bending length
-// (D / (rho g))^(1/3) of its softer direction: the refinement study (docs/independent_sheet.md)
-// shows marker positions converged there. The path's grid is coarser.
+// The independent model's default grids for a material, from the bending length
+// l = (D / (rho g))^(1/3) of its softer direction: the markers' grid has its largest spacing at
+// min(2 cm, 0.3 l), graded to a quarter of that at the jaws and the free edges (grid.h:
+// graded_grid); the path's uniform grid min(3 cm, 0.5 l). How far these are from converged is
+// measured by real_sheet_refinement (docs/independent_sheet.md).
 double independent_grid_spacing_m(const twin::Material& material);
 double independent_path_spacing_m(const twin::Material& material);
 

@@ -126,6 +126,7 @@ class IndependentPhysics final : public TrueSheetPhysics {
     o.max_iterations = 1;
     o.keep_on_limit = true;
     o.projected_hessian = true;
+    o.step_limit_m = 1e9;
     o.force_tolerance = 1e-6;
     twin::VecX y = x;
     const real_sheet::EquilibriumReport r = real_sheet::solve_equilibrium(model_, y, jaws, o, &terms, &workspace_);

@@ -86,7 +86,6 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
   const double mu_floor = 1.0;  // 1/s^2: below this a step is Newton's
   double mu_worked = 0.0;       // the last damping of an accepted step
   int failed_in_a_row = 0;
-  VecX x_try;
   const VecX x_start = x;
   const std::vector<JawHold> jaws_start = jaws;
   const auto fail = [&](std::string why) {
@@ -95,6 +94,9 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
     report.message = std::move(why);
     return report;
   };
+  int exact_pause = 0;       // iterations left before the exact Hessian is tried again
+  double step_limit_m = options.step_limit_m;  // trust radius: no node moves further in a step
+  const bool trace = std::getenv("REAL_SHEET_TRACE") != nullptr;
   for (report.iterations = 0; report.iterations < options.max_iterations; ++report.iterations) {
     report.max_force_N = max_block_norm(g);
     report.energy_J = energy;
@@ -103,19 +105,27 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
       return report;
     }
     // Factorise H + mu M with the exact Hessian. When that is not positive definite (compressed
-    // membrane, a fold past its stable shape) the projected Hessian takes its place at the same
-    // damping (at least the damping that last worked, when there was none): positive
-    // semi-definite, so with mu > 0 it always factorises, and mu is left to the steps' success.
+    // membrane, a fold past its stable shape) the projected Hessian takes its place for a few
+    // iterations, at the damping that last worked: positive semi-definite, so with mu > 0 it
+    // factorises, and mu is left to the steps' success.
     bool factored = false;
-    for (int attempt = options.projected_hessian ? 1 : 0; attempt < 2 && !factored; ++attempt) {
-      const bool exact = attempt == 0;
-      if (!exact && mu == 0.0 && !options.projected_hessian) mu = std::max(mu_floor, 0.25 * mu_worked);
-      model.energy(x, jaws, nullptr, &H, exact ? Hessian::kExact : Hessian::kProjected, step);
+    if (!options.projected_hessian && exact_pause == 0) {
+      model.energy(x, jaws, nullptr, &H, Hessian::kExact, step);
+      if (mu > 0) H.add_to_diagonal(mu * metric);
+      ++report.factorizations;
+      factored = cholesky.factorize(H);
+      if (!factored) exact_pause = 3;
+    } else if (exact_pause > 0) {
+      --exact_pause;
+    }
+    if (!factored) {
+      if (mu == 0.0 && !options.projected_hessian) mu = std::max(mu_floor, 0.25 * mu_worked);
+      model.energy(x, jaws, nullptr, &H, Hessian::kProjected, step);
       if (mu > 0) H.add_to_diagonal(mu * metric);
       ++report.factorizations;
       factored = cholesky.factorize(H);
     }
-    for (int attempt = 0; attempt < 40 && !factored; ++attempt) {  // only a zero mass left
+    for (int attempt = 0; attempt < 40 && !factored; ++attempt) {  // a singular projection
       mu = std::max(8.0 * mu, 16.0 * mu_floor);
       model.energy(x, jaws, nullptr, &H, Hessian::kProjected, step);
       H.add_to_diagonal(mu * metric);
@@ -124,15 +134,12 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
     }
     if (!factored) return fail("no damping made the Hessian positive definite");
     const VecX dx = cholesky.solve(-g);
-    if (std::getenv("REAL_SHEET_TRACE")) {
-      std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g\n", report.iterations, energy, report.max_force_N, mu,
-                   dx.lpNorm<Eigen::Infinity>());
+    const double longest_m = dx.head(3 * n).lpNorm<Eigen::Infinity>();
+    if (trace) {
+      std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g limit %.3g\n", report.iterations, energy,
+                   report.max_force_N, mu, longest_m, step_limit_m);
     }
-    if (std::getenv("REAL_SHEET_TRACE")) {
-      std::fprintf(stderr, "it %d E %.9g |g| %.3g mu %.3g |dx| %.3g\n", report.iterations, energy, report.max_force_N, mu,
-                   dx.lpNorm<Eigen::Infinity>());
-    }
-    if (mu == 0.0 && dx.lpNorm<Eigen::Infinity>() < options.step_tolerance_m) {
+    if (mu == 0.0 && longest_m < options.step_tolerance_m) {
       x += dx.head(3 * n);
       jaws = turned(jaws, dx, n, 1.0);
       report.energy_J = model.energy(x, jaws, &g, nullptr, Hessian::kExact, step);
@@ -141,20 +148,22 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
       report.converged = true;
       return report;
     }
-    // Backtracking: accept the first alpha whose energy falls (or, within rounding of the
-    // energy, whose force falls).
-    double alpha = 1.0;
+    // Backtracking from the step cut to the trust radius: accept the first alpha whose energy
+    // falls (or, within rounding of the energy, whose force falls).
+    const double cut = std::min(1.0, step_limit_m / std::max(longest_m, 1e-300));
+    double alpha = cut;
     bool accepted = false;
-    VecX g_try;
+    VecX x_try, g_try;
     std::vector<JawHold> jaws_try;
     const double slope = g.dot(dx);
-    for (int k = 0; k < 12; ++k, alpha *= 0.5) {
+    for (int k = 0; k < 8; ++k, alpha *= 0.5) {
       x_try = x + alpha * dx.head(3 * n);
       jaws_try = turned(jaws, dx, n, alpha);
       const double e = model.energy(x_try, jaws_try, &g_try, nullptr, Hessian::kExact, step);
       if (!std::isfinite(e)) continue;
       const double rounding = 1e-12 * std::max(1.0, std::abs(energy));
-      if (e <= energy + 1e-4 * alpha * slope || (std::abs(e - energy) <= rounding && max_block_norm(g_try) < report.max_force_N)) {
+      if (e <= energy + 1e-4 * alpha * slope ||
+          (std::abs(e - energy) <= rounding && max_block_norm(g_try) < report.max_force_N)) {
         accepted = true;
         energy = e;
         break;
@@ -163,18 +172,23 @@ EquilibriumReport solve_equilibrium(const SheetModel& model, VecX& x, std::vecto
     if (!accepted) {
       if (++failed_in_a_row > 12) return fail(fmt::format("no step lowered the energy (force {:.3g} N)", report.max_force_N));
       mu = std::max(mu * 8.0, mu_floor * 64.0);
+      step_limit_m = std::max(1e-6, 0.25 * alpha * longest_m);
       continue;
     }
     failed_in_a_row = 0;
     if (mu > 0) mu_worked = mu;
-    x = x_try;
-    jaws = jaws_try;
-    g = g_try;
-    if (alpha == 1.0) {
+    x = std::move(x_try);
+    jaws = std::move(jaws_try);
+    g = std::move(g_try);
+    if (alpha == 1.0) {  // the whole step: trust it more
       mu = mu / 4.0;
       if (mu < mu_floor) mu = 0.0;
-    } else if (alpha < 0.2) {
+      step_limit_m = std::max(step_limit_m, std::min(0.2, 2.0 * longest_m));
+    } else if (alpha == cut) {  // cut by the trust radius only: widen it
+      step_limit_m = std::max(step_limit_m, std::min(0.2, 2.0 * step_limit_m));
+    } else {  // backtracked: the model was poor this far out
       mu = std::max(mu * 4.0, mu_floor * 16.0);
+      step_limit_m = std::max(1e-6, alpha * longest_m);
     }
   }
   report.max_force_N = max_block_norm(g);

@@ -34,6 +34,9 @@ struct EquilibriumOptions {
   // Projected Hessian only (no exact attempt): for implicit steps, whose inertia makes it
   // positive definite and a good model, at half the factorisations.
   bool projected_hessian = false;
+  // The first trust radius (m): no node moves further in one step until steps prove good. An
+  // implicit step's Newton step is the scheme's own and is not cut: give it a large radius.
+  double step_limit_m = 0.05;
 };
 
 struct EquilibriumReport {

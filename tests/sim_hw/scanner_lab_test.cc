@@ -1,10 +1,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <random>
+
+#include <nlohmann/json.hpp>
 
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
+#include "tests/support/temp_dir.h"
 #include "twin/trial.h"
 
 namespace sim_hw {
@@ -193,6 +197,58 @@ TEST_CASE("the lab's clamp moves never go past what a trial file may say", "[sim
   INFO(limit_stages << " of 10000 stages stopped at the limit");
   CHECK(limit_stages > 0);
   for (double sheet_m : {0.3, 1.0, 1.5}) CHECK(lab_max_clamp_distance_m(sheet_m) < twin::max_clamp_distance_m(sheet_m));
+}
+
+}  // namespace
+}  // namespace sim_hw
+
+namespace sim_hw {
+namespace {
+
+// The independent truth on coarse grids (seconds, not minutes): the same protocol, stage times
+// and noise as any lab trial of the seed; its sheet hangs from the jaws where the stages put
+// them; and what made it is recorded in lab.json.
+TEST_CASE("the independent truth follows the lab's protocol and says so", "[sim_hw][lab]") {
+  ScannerLabConfig config;
+  config.seed = 3;
+  config.truth_model = TruthModel::kIndependent;
+  config.grid_spacing_m = 0.05;
+  config.path_grid_spacing_m = 0.05;
+  config.raw_scans = false;
+  CHECK(ScannerLabConfig{}.truth_model == TruthModel::kIndependent);  // the default
+  const LabTrial lab = make_lab_trial(config);
+  const LabSetup setup = lab_setup(config);
+  REQUIRE(lab.trial.stages.size() == setup.stages.size());
+  for (std::size_t s = 0; s < setup.stages.size(); ++s) {
+    CHECK(lab.trial.stages[s].time_s == setup.stages[s].time_s);
+    CHECK(lab.trial.stages[s].clamps_moved_at_s == setup.stages[s].clamps_moved_at_s);
+    double lowest_marker = 1e9, lowest_clamp = 1e9;
+    for (const Vec3& p : lab.true_markers_m[s]) lowest_marker = std::min(lowest_marker, p.z());
+    for (std::size_t c = 0; c < lab.trial.clamps.size(); ++c) {
+      const twin::ClampPose& pose = setup.stages[s].poses[c];
+      if (!pose.engaged) continue;
+      lowest_clamp = std::min(lowest_clamp, pose.position_m.z());
+      // The probe's reading is within its noise of the true pose.
+      CHECK((lab.trial.stages[s].poses[c].position_m - pose.position_m).norm() < 10 * config.probe_noise_m);
+    }
+    CHECK(lowest_marker < lowest_clamp - 0.02);  // it hangs
+  }
+  CHECK_THAT(lab.reference_description, Catch::Contains("independent plate"));
+  testing_support::TempDir dir("independent_lab");
+  write_lab_trial(lab, config, (dir / "trial").string(), (dir / "truth").string());
+  std::ifstream in(dir / "truth" / "lab.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  CHECK(j.at("truth_model") == "independent");
+  CHECK(j.at("jaws") == "rigid");
+  CHECK_THAT(j.at("reference").get<std::string>(), Catch::Contains("grid"));
+}
+
+TEST_CASE("truth models and jaws are named or refused by name", "[sim_hw][lab]") {
+  CHECK(parse_truth_model("twin", "--truth-model") == TruthModel::kTwin);
+  CHECK(parse_truth_model("independent", "--truth-model") == TruthModel::kIndependent);
+  CHECK_THROWS_WITH(parse_truth_model("real", "--truth-model"), Catch::Contains("--truth-model") && Catch::Contains("'real'"));
+  CHECK(parse_jaw_kind("pivot", "--jaws") == real_sheet::JawKind::kPivot);
+  CHECK_THROWS_WITH(parse_jaw_kind("loose", "--jaws"), Catch::Contains("rigid or pivot"));
 }
 
 }  // namespace

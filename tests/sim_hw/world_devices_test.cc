@@ -101,7 +101,11 @@ TEST_CASE("gripper: closes on the sheet within the capture distance, carries and
   m.bending_rigidity_u_Nm = m.bending_rigidity_v_Nm = 8e-4;
   m.tensile_viscosity_Ns_m = m.shear_viscosity_Ns_m = 5;
   m.mass_damping_1_s = 1.0;
-  sim_hw::TrueSheet sheet(spec, m);
+  const sim_hw::TruthModel model = GENERATE(sim_hw::TruthModel::kIndependent, sim_hw::TruthModel::kTwin);
+  INFO("true sheet physics: " << sim_hw::to_string(model));
+  sim_hw::TrueSheetOptions options;
+  options.model = model;
+  sim_hw::TrueSheet sheet(spec, m, options);
   // Loaded at two opposite corners, held 1.4 cm closer together than flat, level.
   std::vector<sim_hw::HeldGrasp> grasps(2);
   grasps[0].clamp = {"A", twin::Vec2(0.02, 0.28), 0.02};
@@ -194,6 +198,7 @@ TEST_CASE("world config: errors name the file and the field", "[world]") {
   CHECK(c.material.tensile_stiffness_u_N_m == 6000);
   CHECK(c.cameras[0].config.backend == "simulated");
   CHECK(c.cameras[0].config.camera_to_cell.translation().x() == Approx(0.001));  // the true pose
+  CHECK(c.truth.model == sim_hw::TruthModel::kIndependent);  // a sheet the twin does not share
 
   world_test::WorldEdits e;
   e.world = [](nlohmann::json& w) { w["cameras"][1]["nois"] = nlohmann::json::object(); };
@@ -208,6 +213,10 @@ TEST_CASE("world config: errors name the file and the field", "[world]") {
   expect_error(e, "cameras[0].camera_to_cell.translation_m");
   e.world = [](nlohmann::json& w) { w["wind"] = 3; };
   expect_error(e, "wind");
+  e.world = [](nlohmann::json& w) { w["physics"]["truth_model"] = "real"; };
+  expect_error(e, "physics.truth_model");
+  e.world = [](nlohmann::json& w) { w["physics"]["grid_spacing_m"] = 0; };
+  expect_error(e, "physics.grid_spacing_m");
   e.world = nullptr;
   e.plan = [](nlohmann::json& p) { p["grasps"][0]["hold_position_m"] = {-0.4462, -0.3749, 3.5}; };
   expect_error(e, "gripper LEFT");
