@@ -4,8 +4,9 @@
 # `twin diagnose` on the files alone; then a table of how often the verdict is right.
 #
 # Usage: bash scripts/blind_accuracy.sh [SETS_PER_EFFECT (default 3)] [OUT (default out/blind_accuracy)]
-# Environment: EFFECTS (comma list, default all nine), TRIANGLES (default 300: reference sheet
-# and twin), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
+# Environment: EFFECTS (comma list, default all nine), TRUTH_MODEL (independent, the default:
+# the lab's plate model that shares nothing with the twin; twin: the twin's own model, the
+# sets of issue 6), TRIANGLES (default 300: the twin, and the reference sheet of twin truth), BUILD (default build), TWIN / SCANNER_LAB (the executables, default under BUILD),
 # FIRST_SEED (default 1), OMP_NUM_THREADS (default 1), JOBS (sets run at once, default 1; 2 on a
 # quiet two-core machine), REDIAGNOSE=1 (diagnose again every set, e.g. after rebuilding twin),
 # DIAGNOSE_ARGS (more `twin diagnose` options, e.g. "--optimizer lm").
@@ -19,6 +20,7 @@ sets="${1:-3}"
 out="${2:-out/blind_accuracy}"
 build="${BUILD:-build}"
 triangles="${TRIANGLES:-300}"
+truth_model="${TRUTH_MODEL:-independent}"
 first_seed="${FIRST_SEED:-1}"
 jobs="${JOBS:-1}"
 effects="${EFFECTS:-none,orthotropic_stiffness,rest_curvature,nonlinear_bending,marker_mass,viscoelastic_relaxation,clamp_grip,clamp_slip,outside_library}"
@@ -43,7 +45,7 @@ run_set() {
     rm -rf "$dir/trials" "$dir/truth" "$dir/report"
     mkdir -p "$dir"
     local t0; t0=$(now)
-    if ! "$lab" blind --seed "$seed" --effect "$effect" --triangles "$triangles" \
+    if ! "$lab" blind --seed "$seed" --effect "$effect" --truth-model "$truth_model" --triangles "$triangles" \
          --out "$dir/trials" --truth "$dir/truth" > "$dir/generate.log" 2>&1; then
       echo "generate failed: $(tail -1 "$dir/generate.log")" > "$dir/error.txt"
       rm -rf "$dir/truth"
@@ -123,7 +125,7 @@ done
 
 # The table: per effect, sets, right, wrong name, none, unexplained, failed, mean held-out error.
 echo
-echo "blind accuracy: $sets set(s) per effect, $triangles triangles (reference = twin), results in $results"
+echo "blind accuracy: $sets set(s) per effect, twin of $triangles triangles, $truth_model truth, results in $results"
 awk -F'\t' '
   NR == 1 { next }
   { e = $1; order[e] = order[e] ? order[e] : ++n; names[order[e]] = e; sets[e]++; count[e, $3]++
