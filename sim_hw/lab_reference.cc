@@ -85,48 +85,73 @@ IndependentPath independent_path(const ReferenceSheet& reference, const twin::Ma
   return path;
 }
 
-// The path's stages carried to a grid of `spacing` (the path's own when not finer).
-ReferenceStages independent_stages(const ReferenceSheet& reference, const IndependentPath& path, double w, double h,
-                                   const std::vector<twin::ClampSpec>& clamps, double spacing,
-                                   const std::vector<twin::Vec2>& marker_uv) {
+// Stages of the independent sheet on one grid: the model, each stage's equilibrium and holds.
+struct IndependentStages {
+  std::unique_ptr<real_sheet::SheetModel> model;
+  std::vector<twin::VecX> x;
+  std::vector<std::vector<real_sheet::JawHold>> holds;
+  int iterations = 0;  // of the solves that carried them there
+};
+
+// `from`'s stages carried to the graded grid of `spacing` and solved there.
+IndependentStages carry_stages(const ReferenceSheet& reference, const IndependentPath& path,
+                               const real_sheet::SheetModel& from, const std::vector<twin::VecX>& x,
+                               const std::vector<std::vector<real_sheet::JawHold>>& holds, double w, double h,
+                               const std::vector<twin::ClampSpec>& clamps, double spacing,
+                               const std::vector<twin::Vec2>& marker_uv) {
   namespace rs = real_sheet;
-  const rs::Grid& coarse = path.model->grid();
-  const bool carried = spacing < 0.999 * coarse.max_spacing_m();
   std::vector<rs::JawSpot> spots;
   for (const twin::ClampSpec& c : clamps) spots.push_back({c.material_point_m, c.grip_radius_m});
-  rs::SheetModel fine(carried ? rs::graded_grid(w, h, spots, spacing) : coarse, path.material, marker_uv);
-  const rs::SheetModel& model = carried ? fine : *path.model;
-  const rs::Grid& grid = model.grid();
-  ReferenceStages out;
-  out.size = grid.node_count();
+  IndependentStages out;
+  out.model = std::make_unique<rs::SheetModel>(rs::graded_grid(w, h, spots, spacing), path.material, marker_uv);
   rs::PathOptions options;
   options.jaws = reference.jaws;
-  int iterations = 0;
-  for (std::size_t k = 0; k < path.result.stages.size(); ++k) {
-    twin::VecX x = path.result.stages[k];
-    if (carried) {
-      fine.set_age_s(path.ages_s[k]);
-      rs::EquilibriumReport report;
-      try {
-        x = rs::carry_to_grid(*path.model, x, path.result.holds[k], fine, options, &report);
-      } catch (const std::runtime_error& e) {
-        throw std::runtime_error(fmt::format("stage {}: {}", k + 1, e.what()));
-      }
-      iterations += report.iterations;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    out.model->set_age_s(path.ages_s[k]);
+    rs::EquilibriumReport report;
+    try {
+      out.x.push_back(rs::carry_to_grid(from, x[k], holds[k], *out.model, options, &report));
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("stage {}: {}", k + 1, e.what()));
     }
-    out.markers_m.push_back(model.marker_positions(x));
+    out.holds.push_back(holds[k]);  // poses as they were; pads are rebuilt per grid by carry_to_grid
+    out.iterations += report.iterations;
+  }
+  return out;
+}
+
+ReferenceStages reference_stages(const ReferenceSheet& reference, const IndependentPath& path,
+                                 const real_sheet::SheetModel& model, const std::vector<twin::VecX>& x,
+                                 int fine_iterations, const std::vector<twin::Vec2>& marker_uv) {
+  ReferenceStages out;
+  const real_sheet::Grid& grid = model.grid();
+  const real_sheet::Grid& coarse = path.model->grid();
+  out.size = grid.node_count();
+  for (const twin::VecX& xs : x) {
+    out.markers_m.push_back(model.marker_positions(xs));
     std::vector<Vec3> normals;
-    for (const twin::Vec2& uv : marker_uv) normals.push_back(model.normal_at(x, uv));
+    for (const twin::Vec2& uv : marker_uv) normals.push_back(model.normal_at(xs, uv));
     out.normals.push_back(std::move(normals));
   }
   out.description = fmt::format(
       "independent plate, {} x {} grid ({:.1f}-{:.1f} mm), path on {} x {} ({:.1f} mm), {} jaws ({} path increments, "
       "{} path iterations, {} fine iterations)",
       grid.nu(), grid.nv(), 1e3 * grid.min_spacing_m(), 1e3 * grid.max_spacing_m(), coarse.nu(), coarse.nv(),
-      1e3 * coarse.max_spacing_m(),
-      to_string(reference.jaws), path.result.increments,
-      path.result.iterations, iterations);
+      1e3 * coarse.max_spacing_m(), to_string(reference.jaws), path.result.increments, path.result.iterations,
+      fine_iterations);
   return out;
+}
+
+// The path's stages on the graded grid of `spacing` (the path's own when not finer).
+ReferenceStages independent_stages(const ReferenceSheet& reference, const IndependentPath& path, double w, double h,
+                                   const std::vector<twin::ClampSpec>& clamps, double spacing,
+                                   const std::vector<twin::Vec2>& marker_uv) {
+  if (spacing >= 0.999 * path.model->grid().max_spacing_m()) {
+    return reference_stages(reference, path, *path.model, path.result.stages, 0, marker_uv);
+  }
+  const IndependentStages fine = carry_stages(reference, path, *path.model, path.result.stages, path.result.holds, w,
+                                              h, clamps, spacing, marker_uv);
+  return reference_stages(reference, path, *fine.model, fine.x, fine.iterations, marker_uv);
 }
 
 ReferenceStages independent_reference(const ReferenceSheet& reference, const twin::Material& truth,
@@ -189,9 +214,23 @@ std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& refere
                                                     const std::vector<double>& spacings_m) {
   const IndependentPath path =
       independent_path(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
+  // Each grid carries the stages from the one before (coarse to fine), so every grid solves
+  // them on the branch its neighbour found.
+  std::vector<double> order = spacings_m;
+  std::sort(order.begin(), order.end(), std::greater<>());
   std::vector<ReferenceStages> out;
-  for (const double h : spacings_m) {
-    out.push_back(independent_stages(reference, path, width_m, height_m, clamps, h, marker_uv_m));
+  IndependentStages last;
+  for (const double h : order) {
+    if (h >= 0.999 * path.model->grid().max_spacing_m()) {
+      out.push_back(reference_stages(reference, path, *path.model, path.result.stages, 0, marker_uv_m));
+      continue;
+    }
+    IndependentStages next =
+        last.model ? carry_stages(reference, path, *last.model, last.x, last.holds, width_m, height_m, clamps, h, marker_uv_m)
+                   : carry_stages(reference, path, *path.model, path.result.stages, path.result.holds, width_m,
+                                  height_m, clamps, h, marker_uv_m);
+    out.push_back(reference_stages(reference, path, *next.model, next.x, next.iterations, marker_uv_m));
+    last = std::move(next);
   }
   return out;
 }

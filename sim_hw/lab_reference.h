@@ -69,8 +69,9 @@ ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::
                                    const std::vector<twin::TrialStage>& stages,
                                    const std::vector<twin::Vec2>& marker_uv_m);
 
-// The independent model's refinement study: one path (on the path grid), each stage carried
-// to every spacing of `spacings_m`; per spacing, the stages' markers.
+// The independent model's refinement study: one path (on the path grid), its stages carried to
+// the graded grid of each spacing of `spacings_m` in turn, coarse to fine (each from the one
+// before, so all stay on one branch); per spacing (coarse to fine), the stages' markers.
 std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& reference, const twin::Material& truth,
                                                     const std::vector<Crease>& creases, double width_m,
                                                     double height_m, const std::vector<twin::ClampSpec>& clamps,

@@ -1,6 +1,5 @@
 #include "sim_hw/real_sheet/cholesky.h"
 
-#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>

@@ -21,11 +21,8 @@ SheetModel::SheetModel(const Grid& grid, const SheetMaterial& material, const st
     markers_.push_back(grid_.locate(uv));
     for (int k = 0; k < 4; ++k) mass_kg_[markers_.back().nodes[k]] += material_.marker_mass_kg * markers_.back().weights[k];
   }
-  cell_colours_.resize(4);
-  stencil_colours_.resize(9);
   for (int j = 0; j + 1 < nv; ++j) {
     for (int i = 0; i + 1 < nu; ++i) {
-      cell_colours_[2 * (j % 2) + i % 2].push_back(static_cast<int>(cells_.size()));
       cell_sizes_.push_back({grid_.du(i), grid_.dv(j)});
       cells_.push_back({grid_.node(i, j), grid_.node(i + 1, j), grid_.node(i + 1, j + 1), grid_.node(i, j + 1)});
     }
@@ -36,7 +33,6 @@ SheetModel::SheetModel(const Grid& grid, const SheetMaterial& material, const st
       for (int dj = -1; dj <= 1; ++dj) {
         for (int di = -1; di <= 1; ++di) s[3 * (dj + 1) + (di + 1)] = grid_.node(i + di, j + dj);
       }
-      stencil_colours_[3 * (j % 3) + i % 3].push_back(static_cast<int>(stencils_.size()));
       stencils_.push_back(s);
       BendingNode b;
       b.du_before_m = grid_.du(i - 1);
@@ -112,10 +108,10 @@ double SheetModel::energy(const VecX& x, const std::vector<JawHold>& jaws, VecX*
   if (step) C_visc.diagonal() << material_.tensile_viscosity_Ns_m, material_.tensile_viscosity_Ns_m,
       material_.shear_viscosity_Ns_m;
   const bool viscous = step && C_visc.norm() > 0;
-  for (const std::vector<int>& colour : cell_colours_) {
-    const int count = static_cast<int>(colour.size());
-    for (int k = 0; k < count; ++k) {
-      const int c = colour[k];
+  // Serial loops: on two shared cores, OpenMP teams per evaluation cost more in spinning
+  // threads than they gained (measured on the lab's path).
+  {
+    for (int c = 0; c < static_cast<int>(cells_.size()); ++c) {
       const Vec12 y = cell_positions(x, c);
       Vec12 gc;
       Mat12 hc;
@@ -133,10 +129,8 @@ double SheetModel::energy(const VecX& x, const std::vector<JawHold>& jaws, VecX*
   }
 
   // Bending.
-  for (const std::vector<int>& colour : stencil_colours_) {
-    const int count = static_cast<int>(colour.size());
-    for (int k = 0; k < count; ++k) {
-      const int b = colour[k];
+  {
+    for (int b = 0; b < static_cast<int>(stencils_.size()); ++b) {
       Vec27 gb;
       Mat27 hb;
       energy += curvature_bending_energy(stencil_positions(x, b), bending_[b], D, material_.stiffening_m2,

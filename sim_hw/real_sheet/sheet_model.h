@@ -87,10 +87,6 @@ class SheetModel {
   std::vector<std::array<int, 4>> cells_;
   std::vector<std::array<double, 2>> cell_sizes_;  // (du, dv) per cell, m
   std::vector<std::array<int, 9>> stencils_;
-  // Cells of one colour share no node (i, j mod 2), nor do stencils (i, j mod 3): the loops may
-  // be run concurrently per colour. They run serially: on two shared cores, thirteen small
-  // parallel regions per evaluation cost more in spinning threads than they gained.
-  std::vector<std::vector<int>> cell_colours_, stencil_colours_;
   std::vector<BendingNode> bending_;
 };
 

@@ -1,8 +1,9 @@
 // real_sheet_refinement: the convergence study of the independent sheet (issue 33,
 // docs/independent_sheet.md). Follows one lab trial's clamp path (specimen, seed: protocol and
 // stage times) on the path grid, carries every stage to grids of several spacings and solves it
-// there, and prints per spacing how far each stage's markers lie from those of the finest grid:
-// mean and max over the markers a scan sees (not those under a closed jaw).
+// there (each grid from the one before, coarse to fine), and prints per spacing how far each
+// stage's markers lie from those of the next finer grid and of the finest: mean and max over
+// the markers a scan sees (not those under a closed jaw).
 //   real_sheet_refinement --specimen composite --seed 1 --spacings 0.02,0.014,0.01,0.007,0.005
 
 #include <CLI/CLI.hpp>
@@ -51,18 +52,16 @@ int main(int argc, char** argv) {
       }
       return true;
     };
-    const sim_hw::ReferenceStages& finest = results.back();
-    fmt::print("{} seed {}: markers against the finest grid ({:.4f} m), mm, mean / max per stage\n", config.specimen,
-               config.seed, spacings.back());
-    for (std::size_t k = 0; k + 1 < results.size(); ++k) {
-      std::string line = fmt::format("spacing {:.4f} m |", spacings[k]);
+    // Per stage, mean / max distance of the seen markers between two grids' results.
+    const auto compare = [&](const sim_hw::ReferenceStages& a, const sim_hw::ReferenceStages& b) {
+      std::string line;
       double worst_mean = 0, worst_max = 0;
-      for (std::size_t s = 0; s < finest.markers_m.size(); ++s) {
+      for (std::size_t s = 0; s < b.markers_m.size(); ++s) {
         double sum = 0, max = 0;
         int n = 0;
-        for (std::size_t m = 0; m < finest.markers_m[s].size(); ++m) {
+        for (std::size_t m = 0; m < b.markers_m[s].size(); ++m) {
           if (!seen(s, m)) continue;
-          const double d = (results[k].markers_m[s][m] - finest.markers_m[s][m]).norm();
+          const double d = (a.markers_m[s][m] - b.markers_m[s][m]).norm();
           sum += d;
           max = std::max(max, d);
           ++n;
@@ -71,7 +70,17 @@ int main(int argc, char** argv) {
         worst_mean = std::max(worst_mean, sum / n);
         worst_max = std::max(worst_max, max);
       }
-      fmt::print("{} | worst stage: mean {:.2f}, max {:.2f}\n", line, 1e3 * worst_mean, 1e3 * worst_max);
+      return fmt::format("{} | worst stage: mean {:.2f}, max {:.2f}", line, 1e3 * worst_mean, 1e3 * worst_max);
+    };
+    fmt::print("{} seed {}: seen markers, mm, mean / max per stage (stages 1-{})\n", config.specimen, config.seed,
+               results.back().markers_m.size());
+    for (std::size_t k = 0; k + 1 < results.size(); ++k) {
+      fmt::print("spacing {:.4f} m against {:.4f} m (next) |{}\n", spacings[k], spacings[k + 1],
+                 compare(results[k], results[k + 1]));
+    }
+    for (std::size_t k = 0; k + 2 < results.size(); ++k) {
+      fmt::print("spacing {:.4f} m against {:.4f} m (finest)|{}\n", spacings[k], spacings.back(),
+                 compare(results[k], results.back()));
     }
     return 0;
   } catch (const std::exception& e) {
