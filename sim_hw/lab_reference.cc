@@ -211,7 +211,7 @@ std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& refere
                                                     double height_m, const std::vector<twin::ClampSpec>& clamps,
                                                     const std::vector<twin::TrialStage>& stages,
                                                     const std::vector<twin::Vec2>& marker_uv_m,
-                                                    const std::vector<double>& spacings_m) {
+                                                    const std::vector<double>& spacings_m, double bending_change) {
   const IndependentPath path =
       independent_path(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
   // Each grid carries the stages from the one before (coarse to fine), so every grid solves
@@ -231,6 +231,23 @@ std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& refere
                                   height_m, clamps, h, marker_uv_m);
     out.push_back(reference_stages(reference, path, *next.model, next.x, next.iterations, marker_uv_m));
     last = std::move(next);
+  }
+  if (bending_change != 0.0 && last.model) {
+    namespace rs = real_sheet;
+    rs::SheetMaterial changed = path.material;
+    for (double* D : {&changed.D11_Nm, &changed.D22_Nm, &changed.D12_Nm, &changed.D66_Nm}) *D *= 1.0 + bending_change;
+    rs::SheetModel model(last.model->grid(), changed, marker_uv_m);
+    rs::PathOptions options;
+    options.jaws = reference.jaws;
+    std::vector<twin::VecX> x;
+    int iterations = 0;
+    for (std::size_t k = 0; k < last.x.size(); ++k) {
+      model.set_age_s(path.ages_s[k]);
+      rs::EquilibriumReport report;
+      x.push_back(rs::carry_to_grid(*last.model, last.x[k], last.holds[k], model, options, &report));
+      iterations += report.iterations;
+    }
+    out.push_back(reference_stages(reference, path, model, x, iterations, marker_uv_m));
   }
   return out;
 }

@@ -77,6 +77,10 @@ std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& refere
                                                     double height_m, const std::vector<twin::ClampSpec>& clamps,
                                                     const std::vector<twin::TrialStage>& stages,
                                                     const std::vector<twin::Vec2>& marker_uv_m,
-                                                    const std::vector<double>& spacings_m);
+                                                    const std::vector<double>& spacings_m,
+                                                    double bending_change = 0.0);
+// With bending_change != 0 one more entry follows: the finest grid's stages solved again with
+// every bending rigidity times (1 + bending_change), from the finest's equilibria (the
+// sensitivity of the markers to the material, against which to read the grids' differences).
 
 }  // namespace sim_hw

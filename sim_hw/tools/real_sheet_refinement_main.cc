@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
   app.add_option("--spacings", spacings, "grid spacings (m); the finest is the reference")->delimiter(',');
   app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m, "the path's grid (m; default for the material)");
   app.add_option("--jaws", jaws, "rigid or pivot");
+  double bending_change = 0.01;
+  app.add_option("--bending-change", bending_change,
+                 "also solve the finest grid with bending times 1 + this (the markers' sensitivity; 0: skip)");
   CLI11_PARSE(app, argc, argv);
   try {
     config.truth_model = sim_hw::TruthModel::kIndependent;
@@ -37,9 +40,12 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     const std::vector<sim_hw::ReferenceStages> results = sim_hw::independent_refinement(
         sim_hw::reference_sheet(config), setup.truth, config.creases, setup.specimen.width_m, setup.specimen.height_m,
-        setup.trial.clamps, setup.stages, setup.trial.marker_uv_m, spacings);
+        setup.trial.clamps, setup.stages, setup.trial.marker_uv_m, spacings, bending_change);
+    const bool sensitivity = results.size() > spacings.size();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (std::size_t k = 0; k < spacings.size(); ++k) fmt::print("{:.4f} m: {}\n", spacings[k], results[k].description);
+    const sim_hw::ReferenceStages finest = results[spacings.size() - 1];
+    std::vector<sim_hw::ReferenceStages> grids(results.begin(), results.begin() + static_cast<long>(spacings.size()));
     fmt::print("({:.0f} s in all; default grid for this material {:.4f} m, path grid {:.4f} m)\n\n", seconds,
                sim_hw::independent_grid_spacing_m(setup.truth), sim_hw::independent_path_spacing_m(setup.truth));
     // Markers a scan sees: not within the jaw radius of a closed clamp.
@@ -73,14 +79,18 @@ int main(int argc, char** argv) {
       return fmt::format("{} | worst stage: mean {:.2f}, max {:.2f}", line, 1e3 * worst_mean, 1e3 * worst_max);
     };
     fmt::print("{} seed {}: seen markers, mm, mean / max per stage (stages 1-{})\n", config.specimen, config.seed,
-               results.back().markers_m.size());
-    for (std::size_t k = 0; k + 1 < results.size(); ++k) {
+               finest.markers_m.size());
+    for (std::size_t k = 0; k + 1 < grids.size(); ++k) {
       fmt::print("spacing {:.4f} m against {:.4f} m (next) |{}\n", spacings[k], spacings[k + 1],
-                 compare(results[k], results[k + 1]));
+                 compare(grids[k], grids[k + 1]));
     }
-    for (std::size_t k = 0; k + 2 < results.size(); ++k) {
+    for (std::size_t k = 0; k + 2 < grids.size(); ++k) {
       fmt::print("spacing {:.4f} m against {:.4f} m (finest)|{}\n", spacings[k], spacings.back(),
-                 compare(results[k], results.back()));
+                 compare(grids[k], grids.back()));
+    }
+    if (sensitivity) {
+      fmt::print("bending x {:.3f} on the finest grid         |{}\n", 1.0 + bending_change,
+                 compare(results.back(), finest));
     }
     return 0;
   } catch (const std::exception& e) {
