@@ -1,8 +1,8 @@
 #pragma once
 // The scanner lab's "real" sheet, simulated through a trial's stages by one of two models:
 //   independent (the default): sim_hw/real_sheet, physics that shares no mesh, energy or solver
-//     code with the twin (issue 33), on a grid fine enough to be converged
-//     (docs/independent_sheet.md, `real_sheet_refinement`);
+//     code with the twin (issue 33), on a graded grid whose distance from convergence
+//     is measured by `real_sheet_refinement` (docs/independent_sheet.md);
 //   twin: the twin's own shell model on a reference mesh (the lab before issue 33; every figure
 //     against it is the twin scoring itself).
 // Either returns, per stage, the noise-free markers and the sheet's normal at each (for the raw
@@ -31,9 +31,9 @@ struct ReferenceSheet {
   TruthModel model = TruthModel::kIndependent;
   // Independent model: the clamps' path is followed on a coarse grid (path_grid_spacing_m; 0:
   // independent_path_spacing_m) and each stage's equilibrium is then carried to the grid the
-  // markers are read from and solved there (grid_spacing_m; 0: the converged default for the
-  // material, independent_grid_spacing_m). The path picks the branch (as a real sheet's handling
-  // does); the fine grid converges the shape on it.
+  // markers are read from and solved there (grid_spacing_m; 0: the default for the material,
+  // independent_grid_spacing_m). The path picks the branch (as a real sheet's handling does);
+  // the fine grid refines the shape on it.
   double grid_spacing_m = 0;
   double path_grid_spacing_m = 0;
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;

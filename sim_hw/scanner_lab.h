@@ -32,7 +32,7 @@ struct ScannerLabConfig {
   // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default)
   // or the twin's own model (the lab before issue 33, for comparison).
   TruthModel truth_model = TruthModel::kIndependent;
-  // Independent model: the grid's largest spacing (m; 0: converged default for the material)
+  // Independent model: the grid's largest spacing (m; 0: the default for the material)
   // and whether the jaws hold the sheet rigidly or let it turn about their centre.
   double grid_spacing_m = 0;
   double path_grid_spacing_m = 0;  // the clamps' path on this coarser grid (0: default)

@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
                  "independent: the lab's own plate model, sharing nothing with the twin (default); twin: the "
                  "twin's shell model (the lab before issue 33)");
   app.add_option("--grid-spacing-m", config.grid_spacing_m,
-                 "independent model: largest grid spacing (m; default: converged for the material)");
+                 "independent model: largest grid spacing (m; default: min(2 cm, 0.3 bending length))");
   app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m,
                  "independent model: grid spacing (m) the clamps' path is followed on (default: for the material)");
   app.add_option("--jaws", jaws, "independent model: rigid (default) or pivot (the sheet turns in the jaws)");

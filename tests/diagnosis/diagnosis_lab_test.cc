@@ -66,13 +66,13 @@ TEST_CASE("at the lab's truth the residual is noise, with sigma given or estimat
   CHECK(e.noise.sigma_m == Approx(0.3e-3).epsilon(0.15));
   CHECK_FALSE(e.estimated.any_significant());
   CHECK(e.given.sentences.size() == 1);  // "consistent with noise", no structure read into it
-  // The same markers as a list (no grid): neighbour planes.
+  // The same markers as a list (no grid): the same estimate.
   dx::ResidualField listed = e.field;
   listed.trials[0].grid_rows.reset();
   listed.trials[0].grid_cols.reset();
   const dx::NoiseEstimate from_list = dx::estimate_noise(listed);
-  CHECK(from_list.method.find("neighbour planes") == 0);
-  CHECK(from_list.sigma_m == Approx(0.3e-3).epsilon(0.15));
+  CHECK(from_list.method == e.noise.method);
+  CHECK(from_list.sigma_m == Approx(e.noise.sigma_m).epsilon(1e-12));
   // What the structure measures see on a real field: finite and in range.
   for (const auto& s : e.field.samples) {
     CHECK(s.normal.norm() == Approx(1.0));
@@ -119,4 +119,57 @@ TEST_CASE("an unusable fit cannot make a residual field, and the error names the
                     Catch::Contains("lab_a") && Catch::Contains("stage 3: iteration limit"));
   CHECK(field.trials.empty());
   CHECK_THROWS_WITH(dx::analyse_residuals(field, 0.3e-3), Catch::Contains("no samples"));
+}
+
+// The independent lab (sim_hw/real_sheet): a sheet the twin does not share, folding between its
+// 17 x 17 markers, with a known noise. The field is the observed markers alone (the residual
+// against the noise-free truth is pure noise, a check of the variance factors).
+TEST_CASE("on an independent-lab trial the noise estimate is the same for a grid and a list of markers",
+          "[diagnosis][lab]") {
+  sim_hw::ScannerLabConfig config;
+  config.seed = 3;
+  config.truth_model = sim_hw::TruthModel::kIndependent;
+  config.grid_spacing_m = 0.05;  // coarse: seconds, not minutes; it still folds
+  config.path_grid_spacing_m = 0.05;
+  config.marker_noise_m = 0.5e-3;
+  config.raw_scans = false;
+  const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
+  REQUIRE(lab.trial.marker_grid_rows.has_value());
+  dx::ResidualField grid;
+  dx::FieldTrial trial;
+  trial.name = "independent";
+  trial.sheet_max_uv_m = twin::Vec2(lab.trial.sheet.width_m, lab.trial.sheet.height_m);
+  trial.grid_rows = lab.trial.marker_grid_rows;
+  trial.grid_cols = lab.trial.marker_grid_cols;
+  trial.marker_count = static_cast<int>(lab.trial.marker_uv_m.size());
+  grid.trials.push_back(trial);
+  for (std::size_t s = 0; s < lab.trial.stages.size(); ++s) {
+    dx::FieldStage stage;
+    stage.trial_stage = static_cast<int>(s);
+    for (std::size_t m = 0; m < lab.trial.marker_uv_m.size(); ++m) {
+      const twin::Vec3& observed = lab.trial.stages[s].observed.markers_m[m];
+      if (!observed.allFinite()) continue;
+      dx::ResidualSample sample;
+      sample.stage = static_cast<int>(grid.stages.size());
+      sample.marker = static_cast<int>(m);
+      sample.uv_m = lab.trial.marker_uv_m[m];
+      sample.observed_m = observed;
+      sample.residual_m = observed - lab.true_markers_m[s][m];
+      grid.samples.push_back(sample);
+      ++stage.samples;
+    }
+    grid.stages.push_back(stage);
+  }
+  dx::ResidualField listed = grid;
+  listed.trials[0].grid_rows.reset();
+  listed.trials[0].grid_cols.reset();
+  const dx::NoiseEstimate a = dx::estimate_noise(grid), b = dx::estimate_noise(listed);
+  INFO("from observations " << a.from_observations_m << " m, from pure-noise residuals " << a.from_residuals_m << " m");
+  CHECK(a.from_observations_m == b.from_observations_m);
+  CHECK(a.from_residuals_m == b.from_residuals_m);
+  CHECK(a.from_residuals_m == Approx(config.marker_noise_m).epsilon(0.1));
+  // From the folded sheet alone it reads high (noise_estimate.h, LIMIT: 1.5x measured here; the
+  // neighbour planes used for lists before read several times the noise), but never low.
+  CHECK(a.from_observations_m >= 0.9 * config.marker_noise_m);
+  CHECK(a.from_observations_m <= 2.0 * config.marker_noise_m);
 }

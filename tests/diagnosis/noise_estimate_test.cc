@@ -17,26 +17,27 @@ Vec3 smooth(const Vec2& uv, int stage) {
 
 }  // namespace
 
-TEST_CASE("grid third differences recover the noise under a smooth field 10x larger", "[diagnosis]") {
+TEST_CASE("local fits recover the noise of a marker grid under a smooth field 10x larger", "[diagnosis]") {
   for (unsigned seed : {1u, 2u, 3u}) {
     SyntheticOptions o;
     o.seed = seed;
     const auto estimate = twin::diagnosis::estimate_noise(synthetic_field(o, smooth));
     INFO("seed " << seed << " sigma " << estimate.sigma_m);
-    CHECK(estimate.method.find("grid third differences") == 0);
+    CHECK(estimate.method.find("local quartic fits") == 0);
     CHECK(estimate.sigma_m == Approx(o.sigma_m).epsilon(0.15));
-    CHECK(estimate.differences_used > 5000);
+    // Every coordinate of every marker but those at the edges a quartic cannot be fitted from.
+    CHECK(estimate.differences_used >= 0.8 * 3 * o.rows * o.cols * o.stages);
   }
 }
 
-TEST_CASE("neighbour planes recover the noise of markers off a grid", "[diagnosis]") {
+TEST_CASE("local fits recover the noise of markers off a grid", "[diagnosis]") {
   for (unsigned seed : {4u, 5u}) {
     SyntheticOptions o;
     o.seed = seed;
     o.grid = false;
     const auto estimate = twin::diagnosis::estimate_noise(synthetic_field(o, smooth));
     INFO("seed " << seed << " sigma " << estimate.sigma_m);
-    CHECK(estimate.method.find("neighbour planes") == 0);
+    CHECK(estimate.method.find("local quartic fits") == 0);
     CHECK(estimate.sigma_m == Approx(o.sigma_m).epsilon(0.15));
   }
 }
@@ -55,7 +56,7 @@ TEST_CASE("a model error kinked at every marker is seen through by differencing 
   const auto estimate = twin::diagnosis::estimate_noise(field);
   CHECK(estimate.from_residuals_m > 1.3 * o.sigma_m);  // the median resists, but not fully
   CHECK(estimate.sigma_m == Approx(o.sigma_m).epsilon(0.15));
-  CHECK(estimate.method == "grid third differences of the observed markers");
+  CHECK(estimate.method == "local quartic fits of the observed markers");
 }
 
 TEST_CASE("a sharp error at a few markers does not inflate the estimate", "[diagnosis]") {
