@@ -164,6 +164,13 @@ TEST_CASE("the verdict: none within the noise, an effect that explains it, or un
                                       scores, {}, sigma);
   CHECK(none.verdict == "none");
   CHECK_FALSE(none.effect);
+  // 6 % above a given sigma is more than noise; above an estimated one with a 2 % sampling
+  // error it is not (an estimate a little low by chance must not make noise significant).
+  const dx::SetScore above = set_with(1.06 * sigma, n, 0.5e-3);
+  CHECK(dx::residual_test(above, 3, sigma).significant);
+  CHECK_FALSE(dx::residual_test(above, 3, sigma, 0.02).significant);
+  CHECK(dx::residual_test(set_with(1.15 * sigma, n, 0.5e-3), 3, sigma, 0.02).significant);
+  CHECK(dx::decide(above, above, base_bic, scores, {}, sigma, 0.02).verdict == "none");
 
   // Twice the noise; the orthotropic refit brings it back to the floor.
   std::vector<dx::Refit> refits(2);

@@ -98,6 +98,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     const NoiseEstimate noise = estimate_noise(record.train_before);
     out.sigma_m = noise.sigma_m;
     out.sigma_estimated = true;
+    out.sigma_relative_error = noise.relative_standard_error;
     out.sigma_source = "the training residuals of the base fit";
     say(fmt::format("diagnose: noise sigma estimated {:.3f} mm per coordinate ({}, {} differences)",
                     1e3 * out.sigma_m, noise.method, noise.differences_used));
@@ -127,8 +128,8 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     if (sa.p_value != sb.p_value) return sa.p_value < sb.p_value;
     return sa.statistic / sa.dof > sb.statistic / sb.dof;
   });
-  const bool anything = residual_test(out.base_train, 3, out.sigma_m).significant ||
-                        residual_test(out.base_test, 0, out.sigma_m).significant;
+  const bool anything = residual_test(out.base_train, 3, out.sigma_m, out.sigma_relative_error).significant ||
+                        residual_test(out.base_test, 0, out.sigma_m, out.sigma_relative_error).significant;
   if (anything) {
     RefitOptions refit_options;
     refit_options.max_evaluations = o.refit_evaluations;
@@ -182,6 +183,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     if (out.sigma_estimated) {
       const NoiseEstimate noise = estimate_noise(record.train_before);
       out.sigma_m = noise.sigma_m;
+      out.sigma_relative_error = noise.relative_standard_error;
       out.sigma_source = "the training residuals of the base fit on the " + branch->effect + " refit's equilibria";
       say(fmt::format("diagnose: noise sigma estimated again on the new base: {:.3f} mm per coordinate",
                       1e3 * out.sigma_m));
@@ -193,16 +195,18 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   // sets: the base fit's residuals (mean marker error 20-23 mm) read 0.57-0.63 mm for a true
   // 0.3 mm, which made the noise floor, and every chi-square, twice too lenient. The score tests
   // that chose which candidates to refit keep the first estimate: a smaller sigma would only
-  // make them more significant.
+  // make them more significant. A refit's estimate replaces it only when lower by more than
+  // two sampling errors: the lowest of several estimates of the same noise is low by chance.
   if (out.sigma_estimated) {
     for (const Refit& r : record.refits) {
       if (!r.usable()) continue;
       const NoiseEstimate noise = estimate_noise(r.train_field);
-      if (!(noise.sigma_m < out.sigma_m)) continue;
+      if (!(noise.sigma_m < out.sigma_m * (1.0 - 2.0 * noise.relative_standard_error))) continue;
       say(fmt::format("diagnose: noise sigma {:.4f} mm per coordinate on the {} refit's training residuals "
                       "(was {:.4f} mm)",
                       1e3 * noise.sigma_m, r.effect, 1e3 * out.sigma_m));
       out.sigma_m = noise.sigma_m;
+      out.sigma_relative_error = noise.relative_standard_error;
       out.sigma_source = "the training residuals of the " + r.effect + " refit (the lowest estimate of the fits)";
     }
   }
@@ -213,7 +217,8 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   }
   const double judged_bic = bic(out.base_train.sum_squares_m2, out.base_train.residual_count,
                                 static_cast<int>(base_parameters().size()), out.sigma_m);
-  out.verdict = decide(out.base_train, out.base_test, judged_bic, record.scores, record.refits, out.sigma_m);
+  out.verdict = decide(out.base_train, out.base_test, judged_bic, record.scores, record.refits, out.sigma_m,
+                       out.sigma_relative_error);
   if (!rebase_note.empty()) out.verdict.reasons.insert(out.verdict.reasons.begin(), rebase_note);
   record.base_bic = judged_bic;
   record.ranking = order;

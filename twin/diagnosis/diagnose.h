@@ -45,6 +45,7 @@ struct DiagnoseOutcome {
   Verdict verdict;
   double sigma_m = 0.0;
   bool sigma_estimated = false;
+  double sigma_relative_error = 0.0;  // when estimated: its sampling error (noise_estimate.h)
   std::string sigma_source;    // when estimated: the fit whose training residuals gave it
   double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
   SetScore base_train, base_test;

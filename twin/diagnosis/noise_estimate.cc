@@ -135,6 +135,9 @@ NoiseEstimate estimate_noise(const ResidualField& field) {
   const Scale& used = use_observed ? observed : residual;
   out.sigma_m = used.sigma_m;
   out.differences_used = used.count;
+  // Var(sample median) = 1 / (4 N f(m)^2), f the chi-square(1) density at its median m; sigma
+  // goes as the median's square root: 0.5 / (2 f(m) m) / sqrt(N) = 1.166 / sqrt(N).
+  out.relative_standard_error = 1.166 / std::sqrt(static_cast<double>(std::max(used.count, 1)));
   out.method = use_observed ? "local quartic fits of the observed markers" : "local quartic fits of the residuals";
   return out;
 }

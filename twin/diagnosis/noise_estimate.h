@@ -29,6 +29,10 @@ struct NoiseEstimate {
   double from_residuals_m = 0.0;     // the estimate from the residuals' differences and
   double from_observations_m = 0.0;  // from the observed markers' (+inf when too few)
   int differences_used = 0;     // scalar differences the estimate rests on
+  // Relative standard error of sigma_m from sampling alone: 1.166 / sqrt(differences_used), the
+  // spread of a median-of-chi-square scale over independent differences (it does not cover the
+  // upward bias of model error). A residual RMS within a few of these of sigma is not evidence.
+  double relative_standard_error = 0.0;
   std::string method;           // "local quartic fits of the residuals" / "... of the observed
                                 // markers"
 };

@@ -12,14 +12,14 @@
 
 namespace twin::diagnosis {
 
-ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m) {
+ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m, double sigma_relative_error) {
   ResidualTest t;
   if (set.residual_count == 0) return t;
   t.chi_square = set.sum_squares_m2 / (sigma_m * sigma_m);
   t.dof = std::max(1, set.residual_count - fitted_parameters);
   t.p_value = chi_square_upper_tail(t.chi_square, t.dof);
   t.rms_ratio = std::sqrt(t.chi_square / t.dof);
-  t.significant = t.p_value < kResidualAlpha && t.rms_ratio > kNoiseTolerance;
+  t.significant = t.p_value < kResidualAlpha && t.rms_ratio > kNoiseTolerance * (1.0 + 2.0 * sigma_relative_error);
   return t;
 }
 
@@ -80,10 +80,11 @@ GapTaken gap_taken(const SetScore& base, const SetScore& refit, bool base_signif
 }  // namespace
 
 Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
-               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m) {
+               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m,
+               double sigma_relative_error) {
   Verdict v;
-  const ResidualTest train = residual_test(base_train, 3, sigma_m);
-  const ResidualTest test = residual_test(base_test, 0, sigma_m);
+  const ResidualTest train = residual_test(base_train, 3, sigma_m, sigma_relative_error);
+  const ResidualTest test = residual_test(base_test, 0, sigma_m, sigma_relative_error);
   auto describe = [](const char* set, const ResidualTest& t) {
     return fmt::format("{} residual of the base fit: RMS {:.2f} x sigma, chi-square {:.0f} on {:.0f} dof, p = {:.2g}{}",
                        set, t.rms_ratio, t.chi_square, t.dof, t.p_value, t.significant ? " (significant)" : "");

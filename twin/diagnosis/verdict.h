@@ -54,7 +54,11 @@ struct ResidualTest {
   double chi_square = 0.0, dof = 0.0, p_value = 1.0, rms_ratio = 0.0;  // rms_ratio: RMS / sigma
   bool significant = false;
 };
-ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m);
+// sigma_relative_error: the relative standard error of an estimated sigma (0 when given): the
+// RMS must then exceed kNoiseTolerance by two of them more, so that an estimate a little low by
+// chance does not make noise "significant".
+ResidualTest residual_test(const SetScore& set, int fitted_parameters, double sigma_m,
+                           double sigma_relative_error = 0.0);
 
 struct Verdict {
   std::string verdict;                 // "effect" | "none" | "unexplained"
@@ -66,6 +70,7 @@ struct Verdict {
 };
 
 Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
-               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m);
+               const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m,
+               double sigma_relative_error = 0.0);
 
 }  // namespace twin::diagnosis
