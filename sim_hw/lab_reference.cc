@@ -94,16 +94,15 @@ struct IndependentStages {
 };
 
 // `from`'s stages carried to the graded grid of `spacing` and solved there.
-IndependentStages carry_stages(const ReferenceSheet& reference, const IndependentPath& path,
-                               const real_sheet::SheetModel& from, const std::vector<twin::VecX>& x,
-                               const std::vector<std::vector<real_sheet::JawHold>>& holds, double w, double h,
-                               const std::vector<twin::ClampSpec>& clamps, double spacing,
-                               const std::vector<twin::Vec2>& marker_uv) {
+// The stages x (equilibria on `from`, with their jaw holds) solved again on the model `to`,
+// each from its carried state, so they stay on their branch.
+IndependentStages carry_onto(const ReferenceSheet& reference, const IndependentPath& path,
+                             const real_sheet::SheetModel& from, const std::vector<twin::VecX>& x,
+                             const std::vector<std::vector<real_sheet::JawHold>>& holds,
+                             std::unique_ptr<real_sheet::SheetModel> to) {
   namespace rs = real_sheet;
-  std::vector<rs::JawSpot> spots;
-  for (const twin::ClampSpec& c : clamps) spots.push_back({c.material_point_m, c.grip_radius_m});
   IndependentStages out;
-  out.model = std::make_unique<rs::SheetModel>(rs::graded_grid(w, h, spots, spacing), path.material, marker_uv);
+  out.model = std::move(to);
   rs::PathOptions options;
   options.jaws = reference.jaws;
   for (std::size_t k = 0; k < x.size(); ++k) {
@@ -118,6 +117,18 @@ IndependentStages carry_stages(const ReferenceSheet& reference, const Independen
     out.iterations += report.iterations;
   }
   return out;
+}
+
+IndependentStages carry_stages(const ReferenceSheet& reference, const IndependentPath& path,
+                               const real_sheet::SheetModel& from, const std::vector<twin::VecX>& x,
+                               const std::vector<std::vector<real_sheet::JawHold>>& holds, double w, double h,
+                               const std::vector<twin::ClampSpec>& clamps, double spacing,
+                               const std::vector<twin::Vec2>& marker_uv) {
+  namespace rs = real_sheet;
+  std::vector<rs::JawSpot> spots;
+  for (const twin::ClampSpec& c : clamps) spots.push_back({c.material_point_m, c.grip_radius_m});
+  return carry_onto(reference, path, from, x, holds,
+                    std::make_unique<rs::SheetModel>(rs::graded_grid(w, h, spots, spacing), path.material, marker_uv));
 }
 
 ReferenceStages reference_stages(const ReferenceSheet& reference, const IndependentPath& path,
@@ -233,21 +244,12 @@ std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& refere
     last = std::move(next);
   }
   if (bending_change != 0.0 && last.model) {
-    namespace rs = real_sheet;
-    rs::SheetMaterial changed = path.material;
+    real_sheet::SheetMaterial changed = path.material;
     for (double* D : {&changed.D11_Nm, &changed.D22_Nm, &changed.D12_Nm, &changed.D66_Nm}) *D *= 1.0 + bending_change;
-    rs::SheetModel model(last.model->grid(), changed, marker_uv_m);
-    rs::PathOptions options;
-    options.jaws = reference.jaws;
-    std::vector<twin::VecX> x;
-    int iterations = 0;
-    for (std::size_t k = 0; k < last.x.size(); ++k) {
-      model.set_age_s(path.ages_s[k]);
-      rs::EquilibriumReport report;
-      x.push_back(rs::carry_to_grid(*last.model, last.x[k], last.holds[k], model, options, &report));
-      iterations += report.iterations;
-    }
-    out.push_back(reference_stages(reference, path, model, x, iterations, marker_uv_m));
+    const IndependentStages stiffer =
+        carry_onto(reference, path, *last.model, last.x, last.holds,
+                   std::make_unique<real_sheet::SheetModel>(last.model->grid(), changed, marker_uv_m));
+    out.push_back(reference_stages(reference, path, *stiffer.model, stiffer.x, stiffer.iterations, marker_uv_m));
   }
   return out;
 }
