@@ -119,6 +119,16 @@ class FakeCell {
       return false;
     }, timeout_s);
   }
+  // Waits for `state` with a reason naming every one of `words`. On a loaded machine a camera's
+  // frame can arrive late and put the cell in DEGRADED for a moment of its own (that is correct
+  // behaviour); the test waits past such an episode for the one its fault causes.
+  bool wait_state_naming(int state, std::initializer_list<std::string> words, double timeout_s) {
+    return pump_until([&] {
+      if (log_.state != state) return false;
+      for (const auto& w : words) if (log_.reason.find(w) == std::string::npos) return false;
+      return true;
+    }, timeout_s);
+  }
   void fault(const std::string& target, const std::string& fault, bool active) {
     prepreg_lcm::sim_fault_t m;
     m.utime = drivers::utime_now();
@@ -164,8 +174,10 @@ void check_safe_hold_and_recovery(FakeCell& cell, const std::string& cause, cons
   INFO("cause: " << cause);
   inject();
   INFO(cell.logs());
-  REQUIRE(cell.wait_state({cell_state_t::STATE_SAFE_HOLD}, 5.0));
-  CHECK_THAT(cell.log().reason, Catch::Contains(reason_word));
+  {
+    INFO("last state " << cell.log().state << ": " << cell.log().reason);
+    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_SAFE_HOLD, {reason_word}, 10.0));
+  }
   const auto held = Clock::now();
   cell.pump(2.0);
   CHECK(cell.log().state == cell_state_t::STATE_SAFE_HOLD);
@@ -212,8 +224,10 @@ TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, h
 
   // One camera killed: DEGRADED, still cycling; back: RUNNING.
   cell.fault("cam_left", "dead", true);
-  REQUIRE(cell.wait_state({cell_state_t::STATE_DEGRADED}, 5.0));
-  CHECK_THAT(cell.log().reason, Catch::Contains("cam_left"));
+  {
+    INFO("last state " << cell.log().state << ": " << cell.log().reason);
+    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"cam_left"}, 10.0));
+  }
   const auto degraded = Clock::now();
   cell.pump(2.0);
   CHECK(cell.errors_between(degraded, Clock::now()) >= 2);  // still cycling
@@ -225,8 +239,10 @@ TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, h
   // configured pose): the running calibration check finds the pair that disagrees -> DEGRADED,
   // commands go on; back in place -> RUNNING.
   cell.fault("cam_left", "bumped", true);
-  REQUIRE(cell.wait_state({cell_state_t::STATE_DEGRADED}, 30.0));
-  CHECK_THAT(cell.log().reason, Catch::Contains("calibration check") && Catch::Contains("cam_left"));
+  {
+    INFO("last state " << cell.log().state << ": " << cell.log().reason);
+    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"calibration check", "cam_left"}, 30.0));
+  }
   CHECK(cell.robot_commands_after(Clock::now() - std::chrono::seconds(1)) > 0);
   cell.fault("cam_left", "bumped", false);
   REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 30.0));
