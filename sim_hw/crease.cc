@@ -1,11 +1,17 @@
 #include "sim_hw/crease.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 namespace sim_hw {
 
 int apply_crease(twin::ShellModel& model, const Crease& crease) {
+  if (model.plate_bending()) {
+    // The crease is written as hinge rest angles; a plate-bending twin has no hinges to bend.
+    throw std::invalid_argument("crease: the twin-model truth creases hinges; its material must use "
+                                "\"bending_model\": \"hinge\"");
+  }
   const twin::SheetMesh& mesh = model.mesh();
   const twin::Vec2 normal(-std::sin(crease.direction_rad), std::cos(crease.direction_rad));
   const auto centroid = [&](int t) {

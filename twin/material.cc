@@ -73,6 +73,25 @@ Mat3 Material::membrane_stiffness() const {
   return c;
 }
 
+double Material::bending_coupling_Nm() const {
+  return bending_coupling_ratio.value_or(poisson_ratio) *
+         std::sqrt(bending_rigidity_u_Nm * bending_rigidity_v_Nm);
+}
+
+double Material::twist_rigidity_Nm() const {
+  return twist_ratio.value_or(0.5 * (1.0 - poisson_ratio)) *
+         std::sqrt(bending_rigidity_u_Nm * bending_rigidity_v_Nm);
+}
+
+Mat3 Material::plate_rigidity() const {
+  Mat3 d = Mat3::Zero();
+  d(0, 0) = bending_rigidity_u_Nm;
+  d(1, 1) = bending_rigidity_v_Nm;
+  d(0, 1) = d(1, 0) = bending_coupling_Nm();
+  d(2, 2) = twist_rigidity_Nm();
+  return d;
+}
+
 void Material::validate() const {
   const std::string src = "material '" + name + "'";
   require_positive(surface_density_kg_m2, src, "surface_density_kg_m2", "kg/m^2");
@@ -92,6 +111,17 @@ void Material::validate() const {
              format_value(poisson_ratio));
   }
   if (thickness_m) require_positive(*thickness_m, src, "thickness_m", "m");
+  if ((bending_coupling_ratio || twist_ratio) && bending_model != BendingModel::kPlate) {
+    fail(src, bending_coupling_ratio ? "bending_coupling_Nm" : "twist_rigidity_Nm",
+         "is a rigidity of the plate bending model only (set \"bending_model\": \"plate\")");
+  }
+  if (bending_coupling_ratio && !(std::isfinite(*bending_coupling_ratio) &&
+                                  std::abs(*bending_coupling_ratio) < 1.0)) {
+    fail(src, "bending_coupling_Nm",
+         "must satisfy D12^2 < D_weft D_warp (a stable plate), got " + format_value(bending_coupling_Nm()) +
+             " N*m");
+  }
+  if (twist_ratio) require_positive(twist_rigidity_Nm(), src, "twist_rigidity_Nm", "N*m");
   effects.validate(src);
 }
 
@@ -104,7 +134,8 @@ Material material_from_json(const json& j, const std::string& source) {
   const JsonField f(j, source);
   f.only_keys({"name", "surface_density_kg_m2", "tensile_stiffness_N_m", "shear_stiffness_N_m",
                "poisson_ratio", "bending_rigidity_Nm", "bending_modulus_Pa", "thickness_m",
-               "viscosity", "bending_given_as", "effects"});
+               "viscosity", "bending_given_as", "effects", "bending_model", "bending_coupling_Nm",
+               "twist_rigidity_Nm"});
   Material m;
   if (auto name = f.optional("name")) m.name = name->string();
   m.surface_density_kg_m2 = f["surface_density_kg_m2"].number("kg/m^2");
@@ -141,6 +172,17 @@ Material material_from_json(const json& j, const std::string& source) {
     m.bending_rigidity_u_Nm = bending_rigidity_from_modulus(eu, *m.thickness_m, m.poisson_ratio);
     m.bending_rigidity_v_Nm = bending_rigidity_from_modulus(ev, *m.thickness_m, m.poisson_ratio);
   }
+  if (auto model = f.optional("bending_model")) {
+    const std::string name = model->string();
+    if (name == "plate") {
+      m.bending_model = Material::BendingModel::kPlate;
+    } else if (name != "hinge") {
+      model->fail("must be \"hinge\" or \"plate\", got \"" + name + "\"");
+    }
+  }
+  const double mean_rigidity = std::sqrt(m.bending_rigidity_u_Nm * m.bending_rigidity_v_Nm);
+  if (auto d12 = f.optional("bending_coupling_Nm")) m.bending_coupling_ratio = d12->number("N*m") / mean_rigidity;
+  if (auto d66 = f.optional("twist_rigidity_Nm")) m.twist_ratio = d66->number("N*m") / mean_rigidity;
   if (auto v = f.optional("viscosity")) {
     v->only_keys({"tensile_Ns_m", "shear_Ns_m", "mass_damping_1_s"});
     if (auto x = v->optional("tensile_Ns_m")) m.tensile_viscosity_Ns_m = x->number("N*s/m");
@@ -171,6 +213,9 @@ json material_to_json(const Material& m) {
     j["bending_given_as"] = "rigidity";
     j["bending_rigidity_Nm"] = directional_json(m.bending_rigidity_u_Nm, m.bending_rigidity_v_Nm);
   }
+  if (m.bending_model == Material::BendingModel::kPlate) j["bending_model"] = "plate";
+  if (m.bending_coupling_ratio) j["bending_coupling_Nm"] = m.bending_coupling_Nm();
+  if (m.twist_ratio) j["twist_rigidity_Nm"] = m.twist_rigidity_Nm();
   j["viscosity"] = {{"tensile_Ns_m", m.tensile_viscosity_Ns_m},
                     {"shear_Ns_m", m.shear_viscosity_Ns_m},
                     {"mass_damping_1_s", m.mass_damping_1_s}};

@@ -36,7 +36,12 @@ ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gra
       load_age_s_(std::numeric_limits<double>::quiet_NaN()),
       masses_(lumped_vertex_masses(mesh_, material.surface_density_kg_m2)),
       membrane_(mesh_, material.membrane_stiffness()),
-      bending_(mesh_, material.bending_rigidity_u_Nm, material.bending_rigidity_v_Nm),
+      // With the plate model the hinge term is not part of the energy: any valid rigidity will do.
+      bending_(mesh_, material.bending_model == Material::BendingModel::kPlate ? 1e-3 : material.bending_rigidity_u_Nm,
+               material.bending_model == Material::BendingModel::kPlate ? 1e-3 : material.bending_rigidity_v_Nm),
+      plate_(material.bending_model == Material::BendingModel::kPlate
+                 ? std::make_unique<PlateBendingTerm>(mesh_, material.plate_rigidity())
+                 : nullptr),
       gravity_(masses_, gravity_m_s2),
       grip_(mesh_.vertex_count()),
       slip_(mesh_.vertex_count()) {
@@ -51,13 +56,22 @@ void ShellModel::apply_bending_effects(const ModelEffects& effects) {
   bending_.set_rest_curvature(
       {effects.rest_curvature_uu_1_m, effects.rest_curvature_vv_1_m, effects.rest_curvature_uv_1_m});
   bending_.set_stiffening(effects.bending_stiffening_m2);
+  if (plate_) {
+    plate_->set_rest_curvature(
+        {effects.rest_curvature_uu_1_m, effects.rest_curvature_vv_1_m, effects.rest_curvature_uv_1_m});
+    plate_->set_stiffening(effects.bending_stiffening_m2);
+  }
 }
 
 void ShellModel::update_stiffness(const Material& material, double age_s) {
   const double factor = material.effects.relaxation_factor(age_s);
   // Bending first: it is the only update that can reject the material, and nothing else has
   // changed yet if it does.
-  bending_.set_rigidity(factor * material.bending_rigidity_u_Nm, factor * material.bending_rigidity_v_Nm);
+  if (plate_) {
+    plate_->set_rigidity(factor * material.plate_rigidity());
+  } else {
+    bending_.set_rigidity(factor * material.bending_rigidity_u_Nm, factor * material.bending_rigidity_v_Nm);
+  }
   membrane_.set_stiffness(factor * material.membrane_stiffness());
 }
 
@@ -74,6 +88,11 @@ void ShellModel::update_masses() {
 
 void ShellModel::set_material(const Material& material) {
   material.validate();
+  if (material.bending_model != material_.bending_model) {
+    throw std::invalid_argument("material '" + material.name + "': bending model '" +
+                                (material.bending_model == Material::BendingModel::kPlate ? "plate" : "hinge") +
+                                "' differs from the one this sheet model was built with");
+  }
   update_stiffness(material, load_age_s_);
   apply_bending_effects(material.effects);  // cannot throw for a validated material
   material_ = material;

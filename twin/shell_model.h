@@ -30,6 +30,7 @@
 #include "twin/material.h"
 #include "twin/material_point.h"
 #include "twin/membrane_term.h"
+#include "twin/plate_bending_term.h"
 #include "twin/sheet_mesh.h"
 
 namespace twin {
@@ -43,6 +44,8 @@ class ShellModel {
   ShellModel& operator=(const ShellModel&) = delete;
 
   // The material's stiffnesses enter scaled by the relaxation factor at the current load age.
+  // The bending model is the one the model was built with: a material of the other model
+  // throws std::invalid_argument (solvers keep the terms they were built on).
   void set_material(const Material& material);
 
   // Scan markers on the sheet (locations in this model's mesh; throws std::invalid_argument for
@@ -88,12 +91,19 @@ class ShellModel {
   double total_mass_kg() const;
 
   const MembraneTerm& membrane() const { return membrane_; }
+  // The hinge bending term; the energy's only with the hinge bending model.
   const BendingTerm& bending() const { return bending_; }
   BendingTerm& bending() { return bending_; }
+  // The plate bending term: null unless the material's bending model is the plate.
+  const PlateBendingTerm* plate_bending() const { return plate_.get(); }
+  // The bending term the energy uses (hinge or plate, from the material).
+  const EnergyTerm& bending_energy() const {
+    return plate_ ? static_cast<const EnergyTerm&>(*plate_) : bending_;
+  }
   const GravityTerm& gravity() const { return gravity_; }
   // The potential-energy terms, in a fixed order.
   std::vector<const EnergyTerm*> potential_terms() const {
-    return {&membrane_, &bending_, &gravity_, &grip_, &slip_, &slip_.coupling()};
+    return {&membrane_, &bending_energy(), &gravity_, &grip_, &slip_, &slip_.coupling()};
   }
 
  private:
@@ -109,6 +119,7 @@ class ShellModel {
   std::vector<double> masses_;
   MembraneTerm membrane_;
   BendingTerm bending_;
+  std::unique_ptr<PlateBendingTerm> plate_;
   GravityTerm gravity_;
   ClampGripTerm grip_;
   ClampSlipTerm slip_;

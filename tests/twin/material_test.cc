@@ -47,6 +47,49 @@ TEST_CASE("warp and weft values may differ", "[twin][material]") {
   CHECK(material_to_json(m)["bending_rigidity_Nm"]["warp"].get<double>() == 1e-3);
 }
 
+TEST_CASE("the plate bending model takes D12 and D66, Huber's plate by default", "[twin][material]") {
+  json j = composite();
+  j.erase("bending_modulus_Pa");
+  j["bending_rigidity_Nm"] = {{"weft", 2e-3}, {"warp", 8e-4}};
+  Material hinge = material_from_json(j, "hinge.json");
+  CHECK(hinge.bending_model == Material::BendingModel::kHinge);
+  CHECK_FALSE(material_to_json(hinge).contains("bending_model"));  // old files unchanged
+
+  j["bending_model"] = "plate";
+  const Material huber = material_from_json(j, "plate.json");
+  CHECK(huber.bending_model == Material::BendingModel::kPlate);
+  const double mean = std::sqrt(2e-3 * 8e-4);
+  CHECK(huber.bending_coupling_Nm() == Approx(0.3 * mean));
+  CHECK(huber.twist_rigidity_Nm() == Approx(0.35 * mean));
+
+  j["bending_coupling_Nm"] = 1e-4;
+  j["twist_rigidity_Nm"] = 5e-5;
+  Material laminate = material_from_json(j, "plate.json");
+  const Mat3 d = laminate.plate_rigidity();
+  CHECK(d(0, 0) == 2e-3);
+  CHECK(d(1, 1) == 8e-4);
+  CHECK(d(0, 1) == Approx(1e-4));
+  CHECK(d(2, 2) == Approx(5e-5));
+  const json written = material_to_json(laminate);
+  CHECK(written["bending_model"] == "plate");
+  CHECK(written["twist_rigidity_Nm"].get<double>() == Approx(5e-5));
+  // Scaling the bending (identification) keeps the shape of D.
+  laminate.bending_rigidity_u_Nm *= 2.0;
+  laminate.bending_rigidity_v_Nm *= 2.0;
+  CHECK(laminate.twist_rigidity_Nm() == Approx(1e-4));
+  CHECK(material_from_json(written, "again").twist_rigidity_Nm() == Approx(5e-5));
+
+  j["bending_coupling_Nm"] = 2e-3;  // D12^2 > D11 D22: no stable plate
+  CHECK_THROWS_WITH(material_from_json(j, "bad.json"),
+                    Catch::Contains("bad.json") && Catch::Contains("bending_coupling_Nm"));
+  j.erase("bending_coupling_Nm");
+  j["bending_model"] = "hinge";
+  CHECK_THROWS_WITH(material_from_json(j, "bad.json"),
+                    Catch::Contains("twist_rigidity_Nm") && Catch::Contains("plate"));
+  j["bending_model"] = "shell";
+  CHECK_THROWS_WITH(material_from_json(j, "bad.json"), Catch::Contains("bending_model"));
+}
+
 TEST_CASE("the effects block reads, validates and round-trips", "[twin][material][effects]") {
   json j = composite();
   CHECK_FALSE(material_from_json(j, "plain.json").effects.any());
