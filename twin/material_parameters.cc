@@ -15,6 +15,8 @@ double get_parameter(const Material& m, MaterialParameter parameter) {
     case MaterialParameter::kBendingU: return m.bending_rigidity_u_Nm;
     case MaterialParameter::kBendingV: return m.bending_rigidity_v_Nm;
     case MaterialParameter::kSurfaceDensity: return m.surface_density_kg_m2;
+    case MaterialParameter::kBendingCoupling: return m.bending_coupling_ratio.value_or(m.poisson_ratio);
+    case MaterialParameter::kTwist: return m.twist_ratio.value_or(0.5 * (1.0 - m.poisson_ratio));
     case MaterialParameter::kRestCurvatureUU: return m.effects.rest_curvature_uu_1_m;
     case MaterialParameter::kRestCurvatureVV: return m.effects.rest_curvature_vv_1_m;
     case MaterialParameter::kRestCurvatureUV: return m.effects.rest_curvature_uv_1_m;
@@ -44,6 +46,8 @@ void set_parameter(Material& m, MaterialParameter parameter, double value) {
     case MaterialParameter::kBendingU: m.bending_rigidity_u_Nm = value; return;
     case MaterialParameter::kBendingV: m.bending_rigidity_v_Nm = value; return;
     case MaterialParameter::kSurfaceDensity: m.surface_density_kg_m2 = value; return;
+    case MaterialParameter::kBendingCoupling: m.bending_coupling_ratio = value; return;
+    case MaterialParameter::kTwist: m.twist_ratio = value; return;
     case MaterialParameter::kRestCurvatureUU: m.effects.rest_curvature_uu_1_m = value; return;
     case MaterialParameter::kRestCurvatureVV: m.effects.rest_curvature_vv_1_m = value; return;
     case MaterialParameter::kRestCurvatureUV: m.effects.rest_curvature_uv_1_m = value; return;
@@ -83,6 +87,8 @@ std::string_view parameter_name(MaterialParameter parameter) {
     case MaterialParameter::kBendingU: return "bending_u_Nm";
     case MaterialParameter::kBendingV: return "bending_v_Nm";
     case MaterialParameter::kSurfaceDensity: return "surface_density_kg_m2";
+    case MaterialParameter::kBendingCoupling: return "bending_coupling_ratio";
+    case MaterialParameter::kTwist: return "twist_ratio";
     case MaterialParameter::kRestCurvatureUU: return "rest_curvature_uu_1_m";
     case MaterialParameter::kRestCurvatureVV: return "rest_curvature_vv_1_m";
     case MaterialParameter::kRestCurvatureUV: return "rest_curvature_uv_1_m";
@@ -108,6 +114,10 @@ ParameterScale parameter_scale(MaterialParameter parameter) {
     case MaterialParameter::kBendingU:
     case MaterialParameter::kBendingV: return {true, 1.0, 1e-8, 1.0};        // N*m
     case MaterialParameter::kSurfaceDensity: return {true, 1.0, 1e-3, 10.0};  // kg/m^2
+    // Ratios to sqrt(D_u D_v): |D12| < sqrt(D_u D_v) keeps the plate stable; an isotropic plate
+    // has D66 / D = (1 - nu)/2, a woven fabric's twist can be far softer.
+    case MaterialParameter::kBendingCoupling: return {false, 0.1, -0.95, 0.95};
+    case MaterialParameter::kTwist: return {true, 1.0, 1e-3, 10.0};
     // A roll set tighter than a 5 cm radius is a crease, not a set.
     case MaterialParameter::kRestCurvatureUU:
     case MaterialParameter::kRestCurvatureVV:

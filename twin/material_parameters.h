@@ -11,6 +11,8 @@
 //   kBendingU        D_u, curvature along u (N*m)    "bending_u_Nm"
 //   kBendingV        D_v, curvature along v (N*m)    "bending_v_Nm"
 //   kSurfaceDensity  rho (kg/m^2)                    "surface_density_kg_m2"
+//   kBendingCoupling D12 / sqrt(D_u D_v) (1)         "bending_coupling_ratio"  (plate model)
+//   kTwist           D66 / sqrt(D_u D_v) (1)         "twist_ratio"             (plate model)
 // and the parameters of the optional effects (model_effects.h):
 //   kRestCurvatureUU     K0_uu (1/m)                  "rest_curvature_uu_1_m"
 //   kRestCurvatureVV     K0_vv (1/m)                  "rest_curvature_vv_1_m"
@@ -45,6 +47,8 @@ enum class MaterialParameter {
   kBendingU,
   kBendingV,
   kSurfaceDensity,
+  kBendingCoupling,
+  kTwist,
   kRestCurvatureUU,
   kRestCurvatureVV,
   kRestCurvatureUV,
@@ -57,11 +61,12 @@ enum class MaterialParameter {
   kClampSlipCompliance,
 };
 
-inline constexpr std::array<MaterialParameter, 18> kAllMaterialParameters = {
+inline constexpr std::array<MaterialParameter, 20> kAllMaterialParameters = {
     MaterialParameter::kTensile,          MaterialParameter::kTensileU,
     MaterialParameter::kTensileV,         MaterialParameter::kShear,
     MaterialParameter::kBending,          MaterialParameter::kBendingU,
     MaterialParameter::kBendingV,         MaterialParameter::kSurfaceDensity,
+    MaterialParameter::kBendingCoupling,  MaterialParameter::kTwist,
     MaterialParameter::kRestCurvatureUU,  MaterialParameter::kRestCurvatureVV,
     MaterialParameter::kRestCurvatureUV,  MaterialParameter::kBendingStiffening,
     MaterialParameter::kMarkerMass,       MaterialParameter::kRelaxationFraction,

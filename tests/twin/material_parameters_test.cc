@@ -81,6 +81,23 @@ TEST_CASE("get, set and scale address the right material fields", "[twin][materi
   CHECK(m.surface_density_kg_m2 == 0.25);
 }
 
+TEST_CASE("the plate's coupling and twist are ratios to the bending, Huber's until set", "[twin][material]") {
+  Material m;
+  m.bending_model = Material::BendingModel::kPlate;
+  m.poisson_ratio = 0.3;
+  CHECK(get_parameter(m, MaterialParameter::kBendingCoupling) == Approx(0.3));
+  CHECK(get_parameter(m, MaterialParameter::kTwist) == Approx(0.35));
+  set_parameter(m, MaterialParameter::kTwist, 0.05);
+  set_parameter(m, MaterialParameter::kBendingCoupling, -0.2);
+  scale_parameter(m, MaterialParameter::kBending, 4.0);  // D_u, D_v x4: D66 and D12 follow
+  CHECK(get_parameter(m, MaterialParameter::kTwist) == Approx(0.05));
+  CHECK(m.twist_rigidity_Nm() == Approx(0.05 * 4e-3));
+  CHECK(m.bending_coupling_Nm() == Approx(-0.2 * 4e-3));
+  CHECK_NOTHROW(m.validate());
+  m.bending_model = Material::BendingModel::kHinge;  // the hinge model has no D12, D66
+  CHECK_THROWS_WITH(m.validate(), Catch::Contains("plate"));
+}
+
 TEST_CASE("search coordinates: log for stiffnesses, scaled linear for effects", "[twin][material][effects]") {
   for (MaterialParameter p : kAllMaterialParameters) {
     const ParameterScale s = parameter_scale(p);

@@ -34,6 +34,12 @@ Material base_material(const IdentifyArguments& a, const Trial& first) {
   Material m = a.start.empty() ? paper_middle_candidate(first) : read_material_file(a.start);
   m.thickness_m = first.thickness_m;
   m.name = first.material_name + " (identified)";
+  if (a.bending_model == "plate") m.bending_model = Material::BendingModel::kPlate;
+  if (a.bending_model == "hinge") {
+    m.bending_model = Material::BendingModel::kHinge;
+    m.bending_coupling_ratio.reset();
+    m.twist_ratio.reset();
+  }
   return m;
 }
 
@@ -112,6 +118,10 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
   cmd->add_option("--parameters", a.parameters, "comma-separated parameters to identify");
   cmd->add_option("--start", a.start, "material file with start values and the fixed properties")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--bending-model", a.bending_model,
+                  "hinge (the paper's, Eq. 10) or plate (a curvature tensor per triangle with the material's "
+                  "D12 and D66); default: the start material's, hinge for the paper's")
+      ->check(CLI::IsMember({"hinge", "plate"}));
   cmd->add_option("--residuals", a.residuals, "directory for per-marker residual files (CSV, PLY)");
   cmd->add_option("--triangles", a.triangles, "triangles of the twin's sheet mesh")->check(CLI::Range(50, 200000));
   cmd->add_option("--clamp-refinement", a.clamp_refinement,

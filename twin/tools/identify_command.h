@@ -17,6 +17,7 @@ struct IdentifyArguments {
   std::string optimizer = "lm";     // for gradient: lm | lbfgs
   std::string parameters = "tensile_N_m,shear_N_m,bending_Nm";
   std::string start;               // optional material file: start values and fixed properties
+  std::string bending_model;       // hinge | plate; empty: the start material's
   std::string residuals;           // optional directory for per-marker residual files
   int triangles = 1500;
   // --clamp-refinement (clamp_refinement_option.h): "jaws" refines near each clamp until its
