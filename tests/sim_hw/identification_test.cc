@@ -304,6 +304,8 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
   REQUIRE(status == 0);
   CHECK(output.find("Alg.1 mean") != std::string::npos);
   CHECK(output.find("95 % interval") != std::string::npos);
+  // The twin's discretisation error beside the residual (the fit on twice the triangles).
+  CHECK(output.find("discretisation  markers move") != std::string::npos);
   const twin::Material identified = twin::read_material_file(out);
   CHECK(identified.bending_rigidity_u_Nm == Approx(lab_trial().truth.bending_rigidity_u_Nm).epsilon(0.05));
   // One CSV row per marker (plus the header) for every stage of both sets.
@@ -328,6 +330,15 @@ TEST_CASE("twin identify writes a material file, a table and residual files", "[
   };
   // A parameter name that does not exist: the message names it.
   CHECK(rejected("--parameters stiffness").find("stiffness") != std::string::npos);
+  // A bending model that does not exist: refused by the command line (CLI11's exit code).
+  {
+    const std::string c = std::string(TWIN_EXE) + " identify --train " + trial_dir + " --out " + out +
+                          " --bending-model shell > " + log + " 2>&1";
+    CHECK(WEXITSTATUS(std::system(c.c_str())) != 0);
+    std::ifstream in(log);
+    CHECK(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()).find("--bending-model") !=
+          std::string::npos);
+  }
   // A refinement radius that is not a positive length: the option and the value named.
   const std::string radius_message = rejected("--clamp-refinement 0.1,-2");
   CHECK(radius_message.find("--clamp-refinement") != std::string::npos);

@@ -29,6 +29,10 @@ struct IdentifyArguments {
   unsigned seed = 1;
   int max_evaluations = 0;         // 0: the method's default
   bool quiet = false;
+  // The fitted material also simulated on a twin of twice the triangles: how far the predicted
+  // markers move is the twin's discretisation error at this resolution, reported beside the
+  // residual (the noise cannot be told from it otherwise).
+  bool discretisation_check = true;
 };
 
 // Adds the subcommand and its options to `app`; returns it (to test whether it was chosen).
