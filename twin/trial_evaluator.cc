@@ -236,36 +236,87 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit, bool coarse_path_allowed) {
   });
 
   for (const StageSimulation& s : simulated.stages) fit.newton_iterations += s.report.newton_iterations;
+  // Every stage's candidate equilibria: the path's own when it is the twin's, then the tethered
+  // ones that converged.
+  struct Candidate {
+    const VecX* x;
+    std::size_t stage;  // whose load age it was solved at
+    bool from_scan;
+  };
+  std::vector<std::vector<Candidate>> candidates(stage_count);
   for (std::size_t s = 0; s < stage_count; ++s) {
-    StageFit stage;
-    stage.id = trial_.stages[s].id;
-    // The path's own equilibrium is a candidate when it is the twin's (empty if it failed).
-    if (!coarse_path && s < simulated.stages.size()) stage.x = simulated.stages[s].x;
-    const StageObservation& observed = trial_.stages[s].observed;
-    const auto misfit = [&](const VecX& x) {
-      return correspondence_error(observed.markers_m, markers_->positions(x)).mean_m;
-    };
-    bool from_scan_kept = false;
+    if (!coarse_path && s < simulated.stages.size() && simulated.stages[s].x.size() > 0) {
+      candidates[s].push_back({&simulated.stages[s].x, s, false});
+    }
     for (Tethered& t : tethered[s]) {  // interpolated first, then from the path, as the lanes ran them
       if (!t.ran) continue;
       fit.newton_iterations += t.report.iterations;
-      if (t.report.usable() && (stage.x.size() == 0 || misfit(t.x) < misfit(stage.x))) {
-        stage.x = std::move(t.x);
-        from_scan_kept = true;
+      if (t.report.usable()) candidates[s].push_back({&t.x, s, true});
+    }
+  }
+  const auto misfit = [&](std::size_t s, const VecX& x) {
+    return correspondence_error(trial_.stages[s].observed.markers_m, markers_->positions(x)).mean_m;
+  };
+  // Scans of one pose, one after another with nothing moved between them, see one sheet: they
+  // are predicted on one equilibrium, the candidate that fits all their scans together, so the
+  // branch does not follow each scan's noise (issue 33: three scans of one pose were predicted
+  // on three folds). Each scan keeps its own load age: under relaxation the chosen equilibrium is
+  // carried to that age by a static solve from it (same branch).
+  for (std::size_t first = 0; first < stage_count;) {
+    std::size_t end = first + 1;
+    while (end < stage_count && same_clamp_poses(trial_.stages[end - 1], trial_.stages[end])) ++end;
+    std::vector<std::size_t> scored;
+    for (std::size_t s = first; s < end; ++s) {
+      if (trial_.stages[s].observed.has_markers()) scored.push_back(s);
+    }
+    std::vector<Candidate> pool;
+    for (std::size_t s = first; s < end; ++s) {
+      if (end - first == 1 || !scored.empty()) pool.insert(pool.end(), candidates[s].begin(), candidates[s].end());
+    }
+    const Candidate* chosen = nullptr;
+    double best = 0.0;
+    for (const Candidate& c : pool) {
+      double total = 0.0;
+      for (std::size_t s : scored) total += misfit(s, *c.x);
+      if (!chosen || total < best) {
+        chosen = &c;
+        best = total;
       }
     }
-    fit.stages_from_scan += from_scan_kept;
-    if (stage.x.size() == 0 && coarse_path) {
-      // Neither tether found an equilibrium: follow the path on the twin itself, as before
-      // (the Newton iterations spent so far stay counted).
-      fit.stages_from_scan = 0;
-      return simulate_cold(fit, false);
+    for (std::size_t s = first; s < end; ++s) {
+      StageFit stage;
+      stage.id = trial_.stages[s].id;
+      const Candidate* own = chosen;
+      if (end - first > 1 && scored.empty()) {
+        // No scan to choose by: each stage keeps its path equilibrium, as alone.
+        own = candidates[s].empty() ? nullptr : &candidates[s].front();
+      }
+      if (own) {
+        stage.x = *own->x;
+        const double factor = model_->material().effects.relaxation_factor(ages_s_[s]);
+        if (own->stage != s && factor != model_->material().effects.relaxation_factor(ages_s_[own->stage])) {
+          model_->set_load_age_s(ages_s_[s]);
+          const SolveReport r = statics_->solve(clamps_, stage_poses(static_cast<int>(s)), stage.x);
+          fit.newton_iterations += r.iterations;
+          if (!r.usable()) stage.x = candidates[s].empty() ? VecX() : *candidates[s].front().x;
+        }
+        fit.stages_from_scan += own->from_scan;
+        fit.stages_sharing_an_equilibrium += end - first > 1 && own == chosen;
+      }
+      if (stage.x.size() == 0 && coarse_path) {
+        // Neither tether found an equilibrium: follow the path on the twin itself, as before
+        // (the Newton iterations spent so far stay counted).
+        fit.stages_from_scan = 0;
+        fit.stages_sharing_an_equilibrium = 0;
+        return simulate_cold(fit, false);
+      }
+      if (stage.x.size() == 0) {
+        fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;
+        return false;
+      }
+      fit.stages.push_back(std::move(stage));
     }
-    if (stage.x.size() == 0) {
-      fit.failure = simulated.failure.empty() ? fmt::format("stage {}: no equilibrium found", stage.id) : simulated.failure;
-      return false;
-    }
-    fit.stages.push_back(std::move(stage));
+    first = end;
   }
   return true;
 }

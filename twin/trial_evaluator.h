@@ -88,6 +88,9 @@ struct TrialFit {
   std::vector<int> residual_blocks;
   bool warm_started = false;
   int stages_from_scan = 0;            // cold start: stages whose equilibrium was found from the scan
+  // Cold start: stages predicted on the equilibrium they share with the other scans of their pose
+  // (consecutive stages with the same clamp poses).
+  int stages_sharing_an_equilibrium = 0;
   int newton_iterations = 0;
   double seconds = 0.0;
 

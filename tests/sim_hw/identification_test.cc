@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include "sim_hw/scanner_lab.h"
@@ -73,6 +74,40 @@ TEST_CASE("the adjoint gradient of the marker misfit matches finite differences"
     CHECK(fit.coordinate_gradient(j) == Approx(fd).epsilon(1e-3).margin(1e-4 * fit.coordinate_gradient.cwiseAbs().maxCoeff()));
     CHECK(from_jacobian(j) == Approx(fit.coordinate_gradient(j)).epsilon(1e-6).margin(1e-9));
   }
+}
+
+TEST_CASE("scans of one pose are predicted on one equilibrium, whatever each scan's noise", "[sim_hw][identification]") {
+  // Stage 2 scanned three more times, nothing moved in between, each scan with its own 3 mm of
+  // noise: all four are predicted on the one equilibrium that fits the four scans together.
+  twin::Trial trial = lab_trial().trial;
+  const std::size_t k = 2;
+  REQUIRE(trial.stages.size() > k);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  std::vector<twin::TrialStage> repeats;
+  for (int r = 1; r <= 3; ++r) {
+    twin::TrialStage again = trial.stages[k];
+    again.id += "_again" + std::to_string(r);
+    if (again.time_s) again.time_s = *again.time_s + 0.1 * r;
+    for (twin::Vec3& m : again.observed.markers_m) m += twin::Vec3(noise(rng), noise(rng), noise(rng));
+    repeats.push_back(again);
+  }
+  if (k + 1 < trial.stages.size()) {
+    // Keep the stages after them in time.
+    for (std::size_t s = k + 1; s < trial.stages.size(); ++s) {
+      if (trial.stages[s].time_s) trial.stages[s].time_s = *trial.stages[s].time_s + 1.0;
+      if (trial.stages[s].clamps_moved_at_s) trial.stages[s].clamps_moved_at_s = *trial.stages[s].clamps_moved_at_s + 1.0;
+    }
+  }
+  trial.stages.insert(trial.stages.begin() + k + 1, repeats.begin(), repeats.end());
+  twin::TrialEvaluator evaluator(trial, kTriangles, lab_trial().truth);
+  const twin::TrialFit fit = evaluator.evaluate(lab_trial().truth, kPaperParameters);
+  INFO(fit.failure);
+  REQUIRE(fit.usable());
+  CHECK(fit.stages_sharing_an_equilibrium == 4);
+  for (std::size_t r = 1; r <= 3; ++r) CHECK(fit.stages[k + r].x == fit.stages[k].x);
+  // The other stages are unaffected: each its own pose, its own equilibrium.
+  CHECK(fit.stages[k + 4].x != fit.stages[k].x);
 }
 
 TEST_CASE("stage weights scale a stage's residuals, Jacobian rows and share of the misfit", "[sim_hw][identification]") {

@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "twin/implicit_stepper.h"
 #include "twin/viscosity_term.h"
 
@@ -36,6 +38,27 @@ TEST_CASE("changing the material updates every term in place", "[twin][model]") 
   Material negative = heavier;
   negative.shear_stiffness_N_m = -1.0;
   CHECK_THROWS_WITH(model.set_material(negative), Catch::Contains("shear_stiffness_N_m"));
+}
+
+TEST_CASE("the plate bending model replaces the hinges in the energy and keeps its model", "[twin][model]") {
+  Material material;
+  material.bending_model = Material::BendingModel::kPlate;
+  ShellModel model(make_rectangular_sheet(0.3, 0.2, 0.03), material);
+  REQUIRE(model.plate_bending() != nullptr);
+  const auto terms = model.potential_terms();
+  CHECK(std::find(terms.begin(), terms.end(), model.plate_bending()) != terms.end());
+  CHECK(std::find(terms.begin(), terms.end(), &model.bending()) == terms.end());
+  CHECK(model.plate_bending()->rigidity()(2, 2) == Approx(0.35e-3));  // Huber, nu = 0.3
+
+  Material stiffer = material;
+  stiffer.bending_rigidity_u_Nm = stiffer.bending_rigidity_v_Nm = 2e-3;
+  model.set_material(stiffer);
+  CHECK(model.plate_bending()->rigidity()(0, 0) == 2e-3);
+  CHECK(model.plate_bending()->rigidity()(2, 2) == Approx(0.7e-3));
+  Material hinge = stiffer;
+  hinge.bending_model = Material::BendingModel::kHinge;
+  CHECK_THROWS_WITH(model.set_material(hinge), Catch::Contains("bending model"));
+  CHECK(model.material().bending_model == Material::BendingModel::kPlate);
 }
 
 TEST_CASE("viscosity switched off leaves no damping behind", "[twin][model]") {
