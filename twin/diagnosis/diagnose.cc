@@ -104,6 +104,10 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
                     1e3 * out.sigma_m, noise.method, noise.differences_used));
   }
   out.noise_floor_m = noise_floor_mean_m(out.sigma_m);
+  if (o.discretisation_check) {
+    out.discretisation = check_discretisation(train, mesh, base.material, base_parameters());
+    say("diagnose: discretisation " + describe(out.discretisation, "at the base fit"));
+  }
 
   // 3. Score tests, refits of the best few, the verdict.
   say(fmt::format("diagnose: score tests of {} candidate(s) at the base fit", candidates.size()));
@@ -220,6 +224,28 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   out.verdict = decide(out.base_train, out.base_test, judged_bic, record.scores, record.refits, out.sigma_m,
                        out.sigma_relative_error);
   if (!rebase_note.empty()) out.verdict.reasons.insert(out.verdict.reasons.begin(), rebase_note);
+  {
+    // What the noise and the twin's resolution explain, and whether the base fit is beyond it.
+    const double d = out.discretisation.usable() ? out.discretisation.rms_m : 0.0;
+    const double explained = std::hypot(out.sigma_m, d);
+    out.model_form_misfit = out.base_train.rms_m() > kModelFormFactor * explained;
+    if (out.model_form_misfit) {
+      const StageScore* worst = nullptr;
+      for (const StageScore& st : out.base_train.stages) {
+        if (std::isfinite(st.correspondence_mean_m) && (!worst || st.correspondence_mean_m > worst->correspondence_mean_m)) worst = &st;
+      }
+      out.verdict.reasons.insert(
+          out.verdict.reasons.begin(),
+          fmt::format("model-form misfit: the base fit leaves {:.3f} mm RMS per coordinate on its training trials, "
+                      "{:.1f}x what the noise ({:.3f} mm) and the twin's discretisation ({}) explain{}; an effect "
+                      "named here may be standing in for the model's form",
+                      1e3 * out.base_train.rms_m(), out.base_train.rms_m() / explained, 1e3 * out.sigma_m,
+                      out.discretisation.usable() ? fmt::format("{:.3f} mm", 1e3 * d) : std::string("not measured"),
+                      worst ? fmt::format(", most at stage {} of {} ({:.2f} mm mean)", worst->stage, worst->trial,
+                                          1e3 * worst->correspondence_mean_m)
+                            : std::string()));
+    }
+  }
   record.base_bic = judged_bic;
   record.ranking = order;
 

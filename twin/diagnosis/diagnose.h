@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "twin/discretisation_check.h"
 #include "twin/diagnosis/refit.h"
 #include "twin/diagnosis/verdict.h"
 
@@ -38,6 +39,7 @@ struct DiagnoseOptions {
   int base_evaluations = 80;             // budget of the base fit
   int refit_evaluations = RefitOptions{}.max_evaluations;  // budget of each start of a refit
   GradientOptimizer optimizer = kDiagnosisOptimizer;  // of the base fit and every refit
+  bool discretisation_check = true;      // the base fit also on a twin of twice the triangles
   std::function<void(const std::string&)> progress;  // progress lines (none when empty)
 };
 
@@ -48,6 +50,12 @@ struct DiagnoseOutcome {
   double sigma_relative_error = 0.0;  // when estimated: its sampling error (noise_estimate.h)
   std::string sigma_source;    // when estimated: the fit whose training residuals gave it
   double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
+  // The twin's discretisation error at the base fit (discretisation_check.h), and whether the
+  // base fit's training residual is beyond what it and the noise explain (model_form_factor
+  // times their sum in quadrature): then the model's form is wrong somewhere, which the verdict
+  // says before any effect.
+  DiscretisationCheck discretisation;
+  bool model_form_misfit = false;
   SetScore base_train, base_test;
   // With the named effect (verdict "effect"), or the closest candidate ("unexplained"):
   std::vector<ParameterEstimate> parameters;  // every fitted parameter, 95 % intervals
@@ -61,5 +69,10 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& options);
 // Mean of |e| for e with independent N(0, sigma^2) coordinates in 3D: sigma sqrt(8 / pi). The
 // correspondence error a perfect model would leave (the "noise floor" of verdict.json).
 double noise_floor_mean_m(double sigma_m);
+
+// A base fit whose training RMS per coordinate exceeds this multiple of sqrt(sigma^2 + d^2)
+// (noise sigma, discretisation d) has a model-form misfit: twice is far beyond the sampling
+// spread of an RMS over hundreds of residuals.
+inline constexpr double kModelFormFactor = 2.0;
 
 }  // namespace twin::diagnosis

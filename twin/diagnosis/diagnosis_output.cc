@@ -92,6 +92,10 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
   j["noise_sigma_mm"] = 1e3 * o.sigma_m;
   j["noise_estimated"] = o.sigma_estimated;
   j["noise_estimated_on"] = o.sigma_estimated ? nlohmann::json(o.sigma_source) : nlohmann::json(nullptr);
+  j["discretisation_mm"] = o.discretisation.usable() && o.discretisation.triangles > 0
+                               ? nlohmann::json(1e3 * o.discretisation.rms_m)
+                               : nlohmann::json(nullptr);
+  j["model_form_misfit"] = o.model_form_misfit;
   j["held_out"] = before_after(o.base_test, o.after_test, effect);
   j["train"] = before_after(o.base_train, o.after_train, effect);
   j["base_branch_of"] = record.base_branch_of ? nlohmann::json(*record.base_branch_of) : nlohmann::json(nullptr);
@@ -176,6 +180,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
                                    "correspondence error {:.3f} mm",
                                    1e3 * o.sigma_m, o.sigma_estimated ? "estimated on " + o.sigma_source : std::string("given"),
                                    1e3 * o.noise_floor_m));
+  if (o.discretisation.triangles > 0) data.notes.push_back("twin's discretisation: " + describe(o.discretisation, "at the base fit"));
   data.notes.push_back(fmt::format("candidates considered: {}; base fit {} ({} evaluations)", candidates.size(),
                                    record.base.stop_reason, record.base.evaluations));
   for (const Refit& r : record.refits) {

@@ -37,6 +37,9 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
                   "of the base fit and the refits: lm (Levenberg-Marquardt, default) or lbfgs (NLopt LD_LBFGS)")
       ->check(CLI::IsMember({"lm", "lbfgs"}));
   cmd->add_flag("--quiet", a.quiet, "no progress lines");
+  cmd->add_flag("!--no-discretisation-check", o.discretisation_check,
+                "skip simulating the base fit on a twin of twice the triangles (the twin's discretisation "
+                "error, reported beside the noise and used for the model-form check)");
   return cmd;
 }
 

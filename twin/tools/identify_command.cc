@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "twin/discretisation_check.h"
 #include "twin/identification.h"
 #include "twin/residual_export.h"
 #include "twin/clamp_refinement_option.h"
@@ -142,48 +143,6 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
   return cmd;
 }
 
-// Simulates `material` on the training trials with a twin of twice the triangles and prints how
-// far the markers move against the fit's own predictions (and the residual there): the twin's
-// discretisation error at the resolution used, to first order, which belongs to the residual
-// beside the scanner noise.
-void print_discretisation_check(const TwinMeshSpec& mesh, const Material& material,
-                                const std::vector<std::unique_ptr<TrialEvaluator>>& train,
-                                const std::vector<MaterialParameter>& parameters) {
-  TwinMeshSpec finer = mesh;
-  finer.triangles = 2 * mesh.triangles;
-  double moved_sq = 0.0, moved_max = 0.0, residual_sq = 0.0;
-  int moved_count = 0, residual_count = 0, coarse_triangles = 0, fine_triangles = 0;
-  for (const auto& coarse : train) {
-    const TrialFit at_coarse = coarse->evaluate(material, parameters);
-    TrialEvaluator fine(read_trial(coarse->trial().directory), finer, material);
-    const TrialFit at_fine = fine.evaluate(material, parameters);
-    coarse_triangles = coarse->model().mesh().triangle_count();
-    fine_triangles = fine.model().mesh().triangle_count();
-    if (!at_coarse.usable() || !at_fine.usable()) {
-      fmt::print("discretisation check on {}: simulation failed: {}\n", coarse->trial().directory,
-                 at_coarse.usable() ? at_fine.failure : at_coarse.failure);
-      return;
-    }
-    for (std::size_t s = 0; s < at_coarse.stages.size() && s < at_fine.stages.size(); ++s) {
-      const auto& p = at_coarse.stages[s].predicted_markers_m;
-      const auto& q = at_fine.stages[s].predicted_markers_m;
-      for (std::size_t i = 0; i < p.size() && i < q.size(); ++i) {
-        const double d = (p[i] - q[i]).norm();
-        moved_sq += d * d;
-        moved_max = std::max(moved_max, d);
-        ++moved_count;
-      }
-    }
-    residual_sq += at_fine.sum_squares_m2;
-    residual_count += at_fine.residual_count;
-  }
-  if (moved_count == 0 || residual_count == 0) return;
-  fmt::print("discretisation  markers move {:.3f} mm RMS per coordinate (max {:.2f} mm) from {} to {} triangles "
-             "at the fitted material; residual RMS per coordinate there {:.3f} mm\n",
-             1e3 * std::sqrt(moved_sq / (3.0 * moved_count)), 1e3 * moved_max, coarse_triangles, fine_triangles,
-             1e3 * std::sqrt(residual_sq / residual_count));
-}
-
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
   const ClampRefinement refinement = parse_clamp_refinement(a.clamp_refinement);
@@ -274,7 +233,11 @@ int run_identify(const IdentifyArguments& a) {
     score("test", test);
     print_table(base.name.substr(0, base.name.find(' ')), r.method.substr(0, r.method.find(':')), rows);
     if (last) {
-      if (a.discretisation_check) print_discretisation_check(mesh, r.material, train, parameters);
+      if (a.discretisation_check) {
+        // The twin's discretisation error at this resolution, beside the residual.
+        fmt::print("discretisation  {}\n",
+                   describe(check_discretisation(training, mesh, r.material, parameters), "at the fitted material"));
+      }
       write_material_file(a.out, r.material);
       fmt::print("\nwrote {} ({})\n", a.out, r.method);
       if (!a.residuals.empty()) fmt::print("wrote residual files under {}\n", a.residuals);

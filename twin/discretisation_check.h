@@ -1,0 +1,35 @@
+#pragma once
+// The twin's discretisation error at the resolution in use, measured where it matters: the
+// predicted markers of trials, simulated with the same material on the twin's mesh and on one of
+// twice the triangles. To first order that change is the error of the coarser twin, a part of
+// every residual beside the scanner noise that no material and no effect can remove
+// (identification and diagnosis report it; issue 33's error budget).
+
+#include <string>
+#include <vector>
+
+#include "twin/material.h"
+#include "twin/material_parameters.h"
+#include "twin/trial_evaluator.h"
+
+namespace twin {
+
+struct DiscretisationCheck {
+  std::string failure;  // empty when both resolutions simulated every trial
+  bool usable() const { return failure.empty(); }
+  double rms_m = 0.0;   // markers' change per coordinate, RMS over markers and stages
+  double max_m = 0.0;   // largest change of one marker
+  int triangles = 0, finer_triangles = 0;
+  double finer_residual_rms_m = 0.0;  // the material's residual per coordinate on the finer twin
+};
+
+// `trials` are evaluated with `material` (their own meshes) and read again onto a twin of twice
+// `mesh.triangles`. `parameters` is the list the evaluators were used with (warm starts).
+DiscretisationCheck check_discretisation(const std::vector<TrialEvaluator*>& trials, const TwinMeshSpec& mesh,
+                                         const Material& material,
+                                         const std::vector<MaterialParameter>& parameters);
+
+// One line for a report: "markers move ... from N to 2N triangles <where>; residual ...".
+std::string describe(const DiscretisationCheck& check, const std::string& where);
+
+}  // namespace twin
