@@ -67,6 +67,10 @@ TEST_CASE("twin diagnose names orthotropic bending and halves the held-out error
   CHECK(run.verdict["effect"] == "orthotropic_stiffness");
   CHECK(run.verdict["noise_sigma_mm"].get<double>() == Approx(0.3).epsilon(0.05));
   CHECK_FALSE(run.verdict["noise_estimated_on"].get<std::string>().empty());
+  // The twin's discretisation is measured; with the effect the fit is within what noise and
+  // discretisation explain, so no model-form misfit remains.
+  CHECK(run.verdict["discretisation_mm"].is_number());
+  CHECK(run.verdict["model_form_misfit"] == false);
   const double before = run.verdict["held_out"]["before_mean_mm"], after = run.verdict["held_out"]["after_mean_mm"];
   CHECK(after <= 0.5 * before);
   CHECK(after <= 1.5 * run.verdict["noise_floor_mm"].get<double>());
@@ -93,6 +97,8 @@ TEST_CASE("twin diagnose finds no missing effect in an isotropic sheet", "[diagn
   CHECK_FALSE(std::filesystem::exists(dir / "out" / "material_augmented.json"));
   CHECK(run.verdict["noise_sigma_mm"].get<double>() == Approx(0.3).epsilon(0.15));
   CHECK(run.verdict["optimizer"] == "lm");  // the default, recorded
+  CHECK(run.verdict["discretisation_mm"].is_number());
+  CHECK(run.verdict["model_form_misfit"] == false);
   // Bad input: exit 1, naming what is wrong.
   const Run bad = diagnose(dir, "--effects orthotropic_stiffness,clamp_creep");
   CHECK(bad.status != 0);

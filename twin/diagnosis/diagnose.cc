@@ -225,25 +225,33 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
                        out.sigma_relative_error);
   if (!rebase_note.empty()) out.verdict.reasons.insert(out.verdict.reasons.begin(), rebase_note);
   {
-    // What the noise and the twin's resolution explain, and whether the base fit is beyond it.
+    // What the noise and the twin's resolution explain, and whether the fit the verdict ends
+    // with (the base, or the base with the named effect) is still beyond it: model-form misfit.
     const double d = out.discretisation.usable() ? out.discretisation.rms_m : 0.0;
     const double explained = std::hypot(out.sigma_m, d);
-    out.model_form_misfit = out.base_train.rms_m() > kModelFormFactor * explained;
-    if (out.model_form_misfit) {
+    const SetScore& final_train = out.verdict.chosen ? out.verdict.chosen->train : out.base_train;
+    out.model_form_misfit = final_train.rms_m() > kModelFormFactor * explained;
+    if (out.base_train.rms_m() > kModelFormFactor * explained) {
       const StageScore* worst = nullptr;
-      for (const StageScore& st : out.base_train.stages) {
+      for (const StageScore& st : final_train.stages) {
         if (std::isfinite(st.correspondence_mean_m) && (!worst || st.correspondence_mean_m > worst->correspondence_mean_m)) worst = &st;
       }
+      const std::string budget = fmt::format(
+          "the noise ({:.3f} mm) and the twin's discretisation ({}) explain {:.3f} mm RMS per coordinate", 1e3 * out.sigma_m,
+          out.discretisation.usable() ? fmt::format("{:.3f} mm", 1e3 * d) : std::string("not measured"), 1e3 * explained);
       out.verdict.reasons.insert(
           out.verdict.reasons.begin(),
-          fmt::format("model-form misfit: the base fit leaves {:.3f} mm RMS per coordinate on its training trials, "
-                      "{:.1f}x what the noise ({:.3f} mm) and the twin's discretisation ({}) explain{}; an effect "
-                      "named here may be standing in for the model's form",
-                      1e3 * out.base_train.rms_m(), out.base_train.rms_m() / explained, 1e3 * out.sigma_m,
-                      out.discretisation.usable() ? fmt::format("{:.3f} mm", 1e3 * d) : std::string("not measured"),
-                      worst ? fmt::format(", most at stage {} of {} ({:.2f} mm mean)", worst->stage, worst->trial,
-                                          1e3 * worst->correspondence_mean_m)
-                            : std::string()));
+          out.model_form_misfit
+              ? fmt::format("model-form misfit: {}; the {} leaves {:.3f} mm ({:.1f}x){}: the twin's model is wrong "
+                            "there in a way no candidate here explains",
+                            budget, out.verdict.chosen ? "fit with " + out.verdict.chosen->effect : std::string("base fit"),
+                            1e3 * final_train.rms_m(), final_train.rms_m() / explained,
+                            worst ? fmt::format(", most at stage {} of {} ({:.2f} mm mean)", worst->stage, worst->trial,
+                                                1e3 * worst->correspondence_mean_m)
+                                  : std::string())
+              : fmt::format("{}; the base fit left {:.3f} mm ({:.1f}x), the fit with {} {:.3f} mm", budget,
+                            1e3 * out.base_train.rms_m(), out.base_train.rms_m() / explained,
+                            out.verdict.chosen->effect, 1e3 * final_train.rms_m()));
     }
   }
   record.base_bic = judged_bic;

@@ -51,9 +51,9 @@ struct DiagnoseOutcome {
   std::string sigma_source;    // when estimated: the fit whose training residuals gave it
   double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
   // The twin's discretisation error at the base fit (discretisation_check.h), and whether the
-  // base fit's training residual is beyond what it and the noise explain (model_form_factor
-  // times their sum in quadrature): then the model's form is wrong somewhere, which the verdict
-  // says before any effect.
+  // fit the verdict ends with (the base, or the base with the named effect) leaves a training
+  // residual beyond kModelFormFactor times what the noise and the discretisation explain (their
+  // sum in quadrature): then the model's form is wrong somewhere, which the evidence says first.
   DiscretisationCheck discretisation;
   bool model_form_misfit = false;
   SetScore base_train, base_test;
