@@ -259,9 +259,9 @@ bool TrialEvaluator::simulate_cold(TrialFit& fit, bool coarse_path_allowed) {
   };
   // Scans of one pose, one after another with nothing moved between them, see one sheet: they
   // are predicted on one equilibrium, the candidate that fits all their scans together, so the
-  // branch does not follow each scan's noise (issue 33: three scans of one pose were predicted
-  // on three folds). Each scan keeps its own load age: under relaxation the chosen equilibrium is
-  // carried to that age by a static solve from it (same branch).
+  // branch does not follow each scan's noise (scored one by one, three scans of one pose were
+  // predicted on three different folds). Each scan keeps its own load age: under relaxation
+  // the chosen equilibrium is carried to that age by a static solve from it (same branch).
   for (std::size_t first = 0; first < stage_count;) {
     std::size_t end = first + 1;
     while (end < stage_count && same_clamp_poses(trial_.stages[end - 1], trial_.stages[end])) ++end;
