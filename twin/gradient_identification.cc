@@ -178,8 +178,10 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
     result.objective = value;
     result.stop_reason += "; no simulation succeeded";
   }
+  result.at_search_edge.assign(P, 0);
   for (int j = 0; j < P; ++j) {
     if (result.coordinates(j) <= lower[j] + 1e-6 || result.coordinates(j) >= upper[j] - 1e-6) {
+      result.at_search_edge[j] = result.coordinates(j) <= lower[j] + 1e-6 ? -1 : 1;
       result.stop_reason += fmt::format("; {} at the edge of its search range: restart from there",
                                         parameter_name(problem.parameters()[j]));
     }

@@ -186,6 +186,16 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
                          ? half_width < std::log(ParameterEstimate::kDeterminedRatio)
                          : half_width < 0.5;
   }
+  for (Eigen::Index j = 0; j < P && static_cast<std::size_t>(j) < result.at_search_edge.size(); ++j) {
+    const int edge = result.at_search_edge[j];
+    if (edge == 0) continue;
+    ParameterEstimate& est = result.estimates[j];
+    const ParameterScale scale = parameter_scale(est.parameter);
+    est.at_search_edge = true;
+    est.determined = false;
+    if (edge < 0) est.lower95 = scale.lower;
+    if (edge > 0) est.upper95 = scale.upper;
+  }
 }
 
 }  // namespace twin

@@ -82,6 +82,10 @@ struct ParameterEstimate {
   double lower95 = 0.0, upper95 = 0.0;   // 95 % interval (see estimate_uncertainty)
   bool block_robust = false;             // the interval is the cluster-robust one (wider)
   bool determined = false;               // interval narrower than a factor kDeterminedRatio
+  // The search stopped at the edge of its range: the data pushed it there and would have gone
+  // further, so the interval reaches the parameter's physical bound on that side and the
+  // parameter is not determined, however narrow the curvature of the misfit makes it look.
+  bool at_search_edge = false;
   static constexpr double kDeterminedRatio = 2.0;  // upper95 / value and value / lower95 below it
 };
 
@@ -96,6 +100,7 @@ struct IdentificationResult {
   double seconds = 0.0;
   std::string stop_reason;
   std::vector<ParameterEstimate> estimates;  // filled by estimate_uncertainty
+  std::vector<char> at_search_edge;          // per parameter, set by the gradient search
   double noise_sigma_m = 0.0;            // residual RMS per coordinate at the result
 };
 

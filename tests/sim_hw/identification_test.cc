@@ -176,6 +176,25 @@ TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "
   CHECK(fit.coordinate_gradient.allFinite());
 }
 
+TEST_CASE("a parameter the search leaves at the edge of its range is not determined", "[sim_hw][identification]") {
+  // The bending starts at 3x the truth with a search range of x/1.5: the fit ends at its lower
+  // edge, where a narrow interval would promise a value the data never reached.
+  twin::TrialEvaluator evaluator(lab_trial().trial, kTriangles, lab_trial().truth);
+  twin::IdentificationProblem problem({&evaluator}, start_material(1.0, 1.0, 3.0), {MaterialParameter::kBending});
+  twin::GradientOptions options;
+  options.search_ratio = 1.5;
+  twin::IdentificationResult result = twin::identify_gradient(problem, options);
+  REQUIRE(result.coordinates.size() == 1);
+  twin::estimate_uncertainty(problem, result);
+  const twin::ParameterEstimate& e = result.estimates[0];
+  INFO("bending " << e.value << " [" << e.lower95 << ", " << e.upper95 << "], " << result.stop_reason);
+  CHECK(e.value == Approx(3.0 / 1.5 * lab_trial().truth.bending_rigidity_u_Nm).epsilon(1e-4));
+  CHECK(e.at_search_edge);
+  CHECK_FALSE(e.determined);
+  CHECK(e.lower95 == twin::parameter_scale(MaterialParameter::kBending).lower);
+  CHECK(e.lower95 <= lab_trial().truth.bending_rigidity_u_Nm);
+}
+
 TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[sim_hw][identification]") {
   twin::TrialEvaluator evaluator(lab_trial().trial, kTriangles, lab_trial().truth);
   twin::IdentificationProblem problem({&evaluator}, start_material(1.5, 0.6, 1.6), kPaperParameters);

@@ -16,7 +16,8 @@ nlohmann::json estimates_json(const std::vector<ParameterEstimate>& estimates) {
   nlohmann::json p = nlohmann::json::object();
   for (const ParameterEstimate& e : estimates) {
     p[std::string(parameter_name(e.parameter))] = {
-        {"value", e.value}, {"lower95", e.lower95}, {"upper95", e.upper95}, {"determined", e.determined}};
+        {"value", e.value}, {"lower95", e.lower95}, {"upper95", e.upper95}, {"determined", e.determined},
+        {"at_search_edge", e.at_search_edge}};
   }
   return p;
 }
@@ -159,7 +160,7 @@ std::string write_diagnosis_files(const DiagnoseOptions& options, const Diagnose
   data.parameters.header = {"parameter", "value", "lower 95 %", "upper 95 %", "determined"};
   for (const ParameterEstimate& e : effect ? o.parameters : record.base.estimates) {
     data.parameters.rows.push_back({std::string(parameter_name(e.parameter)), general(e.value), general(e.lower95),
-                                    general(e.upper95), e.determined ? "yes" : "no"});
+                                    general(e.upper95), e.determined ? "yes" : e.at_search_edge ? "no (search range's edge)" : "no"});
   }
   data.candidates.header = {"candidate", "score", "dof", "p", "explained %", "refit held-out mm", "BIC - base", "note"};
   auto row = [&](const CandidateScore& s) {

@@ -82,6 +82,7 @@ std::vector<Row> score_rows(const std::string& set, TrialEvaluator& evaluator, c
 
 // Which covariance set the interval (identification.h: estimate_uncertainty).
 const char* robust_note(const ParameterEstimate& e) {
+  if (e.at_search_edge) return "  (the search stopped at the edge of its range: the interval runs to the bound)";
   return e.block_robust ? "  (stage x quarter blocks: model error)" : "  (Fisher)";
 }
 
