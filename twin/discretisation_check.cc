@@ -17,7 +17,7 @@ DiscretisationCheck check_discretisation(const std::vector<TrialEvaluator*>& tri
   long moved_count = 0, residual_count = 0;
   for (TrialEvaluator* coarse : trials) {
     const TrialFit at_coarse = coarse->evaluate(material, parameters);
-    TrialEvaluator fine(read_trial(coarse->trial().directory), finer, material);
+    TrialEvaluator fine(coarse->trial(), finer, material);  // the trial as read, not read again
     const TrialFit at_fine = fine.evaluate(material, parameters);
     out.triangles = coarse->model().mesh().triangle_count();
     out.finer_triangles = fine.model().mesh().triangle_count();

@@ -133,10 +133,7 @@ void PlateBendingTerm::set_rigidity(const Mat3& rigidity_Nm) {
     curvature_per_angle_[i].setZero();
     curvature_per_angle_[i].leftCols(m) = curvature;
   }
-  rigidity_ = rigidity_Nm;
-  const CurvatureTensor rest = rest_curvature_;
-  rest_curvature_ = {std::nan(""), 0.0, 0.0};  // force the rest angles to be rebuilt
-  set_rest_curvature(rest);
+  rigidity_ = rigidity_Nm;  // the rest angles depend on the geometry alone and stay
 }
 
 void PlateBendingTerm::set_rest_curvature(const CurvatureTensor& k) {
@@ -154,7 +151,6 @@ void PlateBendingTerm::set_stiffening(double beta_m2) {
                                 "got " + std::to_string(beta_m2));
   }
   for (PlateElement& e : elements_) e.stiffening_m2 = beta_m2;
-  beta_m2_ = beta_m2;
 }
 
 Vec3 PlateBendingTerm::curvature(const VecX& x, int element) const {

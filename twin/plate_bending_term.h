@@ -45,8 +45,7 @@ class PlateBendingTerm final : public ElementTerm<6> {
   std::vector<double> area_m2_;
   std::vector<PlateElement> elements_;
   Mat3 rigidity_ = Mat3::Zero();
-  CurvatureTensor rest_curvature_;
-  double beta_m2_ = 0.0;
+  CurvatureTensor rest_curvature_;  // the tensor the rest angles were made from
 };
 
 // D (N*m) of an orthotropic plate from its four rigidities.
