@@ -13,6 +13,7 @@
 #include "sim_hw/marker_scan.h"
 #include "twin/atomic_file.h"
 #include "twin/material_point.h"
+#include "twin/stage_age.h"
 #include "twin/trial_simulation.h"
 
 namespace sim_hw {
@@ -115,10 +116,12 @@ std::vector<std::vector<ClampPose>> lab_stages(const std::vector<ClampSpec>& cla
 // scans follow a move after 20 s to 15 min, log-uniform, so that a relaxing sheet is seen at
 // many ages (with one delay for all, relaxation would look like a softer material). Moves take
 // 5-30 s. A generator of its own (from the seed) leaves every other draw of the lab as it was.
+// Repeated scans of a pose follow the first, each after a further delay drawn the same way.
 struct StageTimes {
-  double clamps_moved_at_s = 0.0, time_s = 0.0;
+  double clamps_moved_at_s = 0.0;
+  std::vector<double> times_s;  // when the pose was scanned, one per scan
 };
-std::vector<StageTimes> lab_stage_times(std::size_t stages, std::uint64_t seed) {
+std::vector<StageTimes> lab_stage_times(std::size_t stages, int scans_per_stage, std::uint64_t seed) {
   std::mt19937_64 rng(seed ^ 0x5ca77e57a9e5ULL);
   std::uniform_real_distribution<double> log_delay(std::log(20.0), std::log(900.0)), move_s(5.0, 30.0);
   std::vector<StageTimes> times;
@@ -127,11 +130,21 @@ std::vector<StageTimes> lab_stage_times(std::size_t stages, std::uint64_t seed) 
     if (s > 0) now_s += move_s(rng);
     StageTimes t;
     t.clamps_moved_at_s = now_s;
-    now_s += std::exp(log_delay(rng));
-    t.time_s = now_s;
+    for (int k = 0; k < scans_per_stage; ++k) {
+      now_s += std::exp(log_delay(rng));
+      t.times_s.push_back(now_s);
+    }
     times.push_back(t);
   }
   return times;
+}
+
+// The stage id of scan k of protocol stage s: "3", or "3a", "3b", ... when a pose is scanned
+// more than once.
+std::string scan_stage_id(std::size_t s, int k, int scans_per_stage) {
+  std::string id = std::to_string(s + 1);
+  if (scans_per_stage > 1) id += static_cast<char>('a' + k);
+  return id;
 }
 
 }  // namespace
@@ -186,13 +199,21 @@ LabSetup lab_setup(const ScannerLabConfig& config) {
   }
   LabProtocol protocol = lab_protocol(w, h, setup.rng);
   trial.clamps = std::move(protocol.clamps);
-  const std::vector<StageTimes> times = lab_stage_times(protocol.stages.size(), config.seed);
-  setup.stages.resize(protocol.stages.size());
+  if (config.scans_per_stage < 1 || config.scans_per_stage > 26) {
+    throw std::invalid_argument(fmt::format("scanner lab: scans per stage: expected 1 to 26, got {}",
+                                            config.scans_per_stage));
+  }
+  const std::vector<StageTimes> times =
+      lab_stage_times(protocol.stages.size(), config.scans_per_stage, config.seed);
   for (std::size_t s = 0; s < protocol.stages.size(); ++s) {
-    setup.stages[s].id = std::to_string(s + 1);
-    setup.stages[s].poses = protocol.stages[s];
-    setup.stages[s].time_s = times[s].time_s;
-    setup.stages[s].clamps_moved_at_s = times[s].clamps_moved_at_s;
+    for (int k = 0; k < config.scans_per_stage; ++k) {
+      twin::TrialStage stage;
+      stage.id = scan_stage_id(s, k, config.scans_per_stage);
+      stage.poses = protocol.stages[s];
+      stage.time_s = times[s].times_s[k];
+      stage.clamps_moved_at_s = times[s].clamps_moved_at_s;
+      setup.stages.push_back(std::move(stage));
+    }
   }
   return setup;
 }
@@ -229,9 +250,17 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     stage.time_s = reference_stages[s].time_s;
     stage.clamps_moved_at_s = reference_stages[s].clamps_moved_at_s;
     stage.markers_file = stage.id + ".xyz";
-    for (ClampPose pose : true_poses[s]) {
-      if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));
-      stage.poses.push_back(pose);
+    // A pose scanned again was not probed again: the repeat carries the first scan's probed poses,
+    // so the trial shows that nothing moved.
+    const bool repeat = s > 0 && twin::same_clamp_poses(reference_stages[s], reference_stages[s - 1]) &&
+                        reference_stages[s].clamps_moved_at_s == reference_stages[s - 1].clamps_moved_at_s;
+    if (repeat) {
+      stage.poses = trial.stages.back().poses;
+    } else {
+      for (ClampPose pose : true_poses[s]) {
+        if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));
+        stage.poses.push_back(pose);
+      }
     }
     const std::vector<Vec3>& truth_markers = simulated.markers_m[s];
     lab.true_markers_m.push_back(truth_markers);
@@ -302,6 +331,7 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
   j["reference_resolves_jaws"] = config.reference_resolves_jaws;
   j["reference_mesh_triangles"] = lab.reference_mesh_triangles;
   j["marker_noise_m"] = config.marker_noise_m;
+  j["scans_per_stage"] = config.scans_per_stage;
   j["probe_noise_m"] = config.probe_noise_m;
   j["scan_noise_m"] = config.scan_noise_m;
   twin::write_file_atomically(std::filesystem::path(truth_directory) / "lab.json",

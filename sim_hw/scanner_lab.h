@@ -47,6 +47,11 @@ struct ScannerLabConfig {
   bool reference_resolves_jaws = true;
   std::vector<double> reference_clamp_refinement_radii_m;
   int marker_rows = 17, marker_cols = 17;
+  // Scans of each pose: with more than one, the lab scans a pose again later (each after a
+  // further 20 s to 15 min, log-uniform) without touching the clamps, as a user who checks
+  // repeatability or relaxation does; the stages then share the pose (probed once) and the
+  // moment the clamps stopped, with ids "3a", "3b", ... Each scan draws its own marker noise.
+  int scans_per_stage = 1;
   double marker_noise_m = 0.3e-3;  // per marker after extraction, each axis (1 sigma)
   double probe_noise_m = 0.05e-3;  // contact probe on the clamps, each axis (1 sigma)
   double clamp_jaw_radius_m = 0.03;  // markers closer than this to a closed clamp are hidden

@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
                  "clamp, in turn; none: the uniform mesh");
   app.add_option("--marker-noise-m", config.marker_noise_m, "marker position noise, 1 sigma per axis (m)");
   app.add_flag("!--no-scans", config.raw_scans, "do not write raw scan points");
+  app.add_option("--scans-per-stage", config.scans_per_stage,
+                 "scan each pose this many times, each later than the one before, clamps untouched (default 1)")
+      ->check(CLI::Range(1, 26));
 
   sim_hw::BlindSetConfig blind;
   std::string blind_out, blind_truth, forced;

@@ -12,6 +12,8 @@
 #include "twin/diagnosis/diagnosis_report.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/residual_analysis.h"
+#include "twin/discretisation_check.h"
+#include "twin/stage_age.h"
 #include "tests/support/uniform_lab_config.h"
 
 namespace dx = twin::diagnosis;
@@ -172,4 +174,72 @@ TEST_CASE("on an independent-lab trial the noise estimate is the same for a grid
   // neighbour planes used for lists before read several times the noise), but never low.
   CHECK(a.from_observations_m >= 0.9 * config.marker_noise_m);
   CHECK(a.from_observations_m <= 2.0 * config.marker_noise_m);
+}
+
+// The lab scanning each pose three times (a user checking repeatability): the stages of a pose
+// share its probed clamp poses and the moment the clamps stopped, the residual field groups
+// them, and the noise read from the scans' differences is the lab's, where a single scan's local
+// fits read the folds as noise.
+TEST_CASE("on an independent-lab trial with repeated scans the noise estimate is the lab's", "[diagnosis][lab]") {
+  sim_hw::ScannerLabConfig config;
+  config.seed = 3;
+  config.truth_model = sim_hw::TruthModel::kIndependent;
+  config.grid_spacing_m = 0.05;
+  config.path_grid_spacing_m = 0.05;
+  config.marker_noise_m = 0.5e-3;
+  config.raw_scans = false;
+  config.scans_per_stage = 3;
+  const sim_hw::LabTrial lab = sim_hw::make_lab_trial(config);
+  REQUIRE(lab.trial.stages.size() == 15);
+  CHECK(lab.trial.stages[0].id == "1a");
+  CHECK(lab.trial.stages[2].id == "1c");
+  CHECK(lab.trial.stages[3].id == "2a");
+  for (std::size_t s = 1; s < lab.trial.stages.size(); ++s) {
+    const twin::TrialStage &a = lab.trial.stages[s - 1], &b = lab.trial.stages[s];
+    CHECK(*b.time_s > *a.time_s);
+    const bool repeat = s % 3 != 0;
+    CHECK(twin::same_clamp_poses(a, b) == repeat);
+    CHECK((a.clamps_moved_at_s == b.clamps_moved_at_s) == repeat);
+  }
+  twin::TrialEvaluator evaluator(lab.trial, kTriangles, lab.truth);
+  const twin::TrialFit fit = evaluator.evaluate(lab.truth, {});
+  INFO(fit.failure);
+  REQUIRE(fit.usable());
+  dx::ResidualField field;
+  dx::add_trial_residuals(field, evaluator, fit, "independent");
+  CHECK(field.pose_groups == 5);
+  for (const dx::FieldStage& stage : field.stages) CHECK(stage.pose_group == stage.trial_stage / 3);
+  const dx::NoiseEstimate noise = dx::estimate_noise(field);
+  INFO("repeated scans " << noise.from_repeated_scans_m << " m, observed markers " << noise.from_observations_m
+                         << " m, residuals " << noise.from_residuals_m << " m");
+  CHECK(noise.method == "repeated scans of one pose");
+  CHECK(noise.sigma_m == Approx(config.marker_noise_m).epsilon(0.1));
+  CHECK(noise.from_observations_m > noise.sigma_m);
+}
+
+// The discretisation check (twin/discretisation_check.h) on trials of the twin's own model: made
+// on the twin's very mesh, the residual holds none of the twin's discretisation pattern, however
+// far the markers move on twice the triangles; made on a finer mesh, it holds it.
+TEST_CASE("the residual holds the twin's discretisation error only when the sheet was not made on its mesh",
+          "[diagnosis][lab]") {
+  const auto check_on = [](int reference_triangles) {
+    const sim_hw::LabTrial lab =
+        sim_hw::make_lab_trial(testing_support::uniform_lab_config(11, reference_triangles));
+    twin::TrialEvaluator evaluator(lab.trial, kTriangles, lab.truth);
+    twin::TwinMeshSpec mesh;
+    mesh.triangles = kTriangles;
+    return twin::check_discretisation({&evaluator}, mesh, lab.truth, {});
+  };
+  const twin::DiscretisationCheck own = check_on(kTriangles), finer = check_on(4 * kTriangles);
+  REQUIRE(own.usable());
+  REQUIRE(finer.usable());
+  INFO("own mesh: moved " << own.rms_m << " m, pattern in residual " << own.pattern_in_residual << ", held "
+                          << own.error_in_residual_rms_m << " m; finer: moved " << finer.rms_m << " m, pattern "
+                          << finer.pattern_in_residual << ", held " << finer.error_in_residual_rms_m << " m");
+  CHECK(own.rms_m > 1e-3);  // the markers move by millimetres on twice the triangles
+  CHECK(std::abs(own.pattern_in_residual) < 0.1);
+  CHECK(own.error_in_residual_rms_m < 0.1 * own.rms_m);
+  CHECK(finer.pattern_in_residual > 0.5);
+  CHECK(finer.error_in_residual_rms_m > 0.5 * finer.rms_m);
+  CHECK(own.error_pattern_m.size() > 0);
 }

@@ -1,8 +1,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
 
 #include "tests/diagnosis/synthetic_field.h"
+#include "twin/diagnosis/model_form.h"
 #include "twin/diagnosis/noise_estimate.h"
 
 using namespace diagnosis_test;
@@ -75,4 +79,70 @@ TEST_CASE("too few markers to difference is an error that says so", "[diagnosis]
   o.stages = 1;
   CHECK_THROWS_WITH(twin::diagnosis::estimate_noise(synthetic_field(o, no_error)),
                     Catch::Contains("give the noise level"));
+}
+
+TEST_CASE("repeated scans of a pose give the noise of a sheet that folds between its markers", "[diagnosis]") {
+  for (const bool grid : {true, false}) {
+    SyntheticOptions o;
+    o.stages = 6;  // two poses, three scans each
+    o.grid = grid;
+    o.seed = grid ? 7u : 8u;
+    auto field = synthetic_field(o, no_error);
+    for (auto& stage : field.stages) stage.pose_group = stage.trial_stage / 3;
+    field.pose_groups = 2;
+    // The observed sheet: crumpled at the markers' spacing (each marker up to 3 mm off any
+    // smooth surface, differently per pose), and from scan to scan of a pose a smooth creep of
+    // up to 2 mm.
+    std::mt19937 rng(o.seed + 100);
+    std::uniform_real_distribution<double> crumple(-3e-3, 3e-3);
+    std::vector<Vec3> shape(2 * 17 * 17);
+    for (Vec3& v : shape) v = Vec3(crumple(rng), crumple(rng), crumple(rng));
+    for (auto& m : field.samples) {
+      const int pose = field.stages[m.stage].trial_stage / 3, scan = field.stages[m.stage].trial_stage % 3;
+      m.observed_m += shape[pose * 17 * 17 + m.marker] + Vec3(0, 0, 2e-3 * scan * (m.uv_m.x() * m.uv_m.x() + 0.5 * m.uv_m.y()));
+    }
+    // A marker the second scan did not see (a hand in the way) is skipped, not paired wrongly.
+    field.samples.erase(field.samples.begin() + 17 * 17 + 40);
+    const auto estimate = twin::diagnosis::estimate_noise(field);
+    INFO((grid ? "grid" : "list") << ": repeated " << estimate.from_repeated_scans_m << " m, observations "
+                                  << estimate.from_observations_m << " m");
+    CHECK(estimate.method == "repeated scans of one pose");
+    CHECK(estimate.sigma_m == estimate.from_repeated_scans_m);
+    CHECK(estimate.sigma_m == Approx(o.sigma_m).epsilon(0.15));
+    // The crumpling defeats the local fits of a single scan.
+    CHECK(estimate.from_observations_m > 2.0 * o.sigma_m);
+    // Three scans of a pose make two pairs (a-b, b-c) sharing scan b: the sampling error counts
+    // one of them.
+    CHECK(estimate.relative_standard_error ==
+          Approx(1.166 / std::sqrt(estimate.differences_used / 2.0)).epsilon(0.02));
+  }
+}
+
+TEST_CASE("stages of different poses are never differenced as repeated scans", "[diagnosis]") {
+  SyntheticOptions o;
+  auto field = synthetic_field(o, smooth);  // every stage a pose of its own (pose_group -1)
+  const auto estimate = twin::diagnosis::estimate_noise(field);
+  CHECK(std::isinf(estimate.from_repeated_scans_m));
+  CHECK(estimate.method.find("local quartic fits") == 0);
+}
+
+TEST_CASE("a model-form misfit is located by stage and by ninth of the sheet", "[diagnosis]") {
+  SyntheticOptions o;
+  // 6 mm along the top-right ninth of the sheet in stage 3 only.
+  const auto field = synthetic_field(o, [&](const Vec2& uv, int stage) {
+    return stage == 2 && uv.x() > 0.8 && uv.y() > 0.7 ? Vec3(0, 0, 6e-3) : Vec3::Zero();
+  });
+  const auto where = twin::diagnosis::locate_model_form(field, 1e-3);
+  REQUIRE(where.stages.size() == 1);
+  CHECK(where.stages[0].label == "synthetic/3");
+  REQUIRE(where.regions.size() == 1);
+  CHECK(where.regions[0].row == 2);
+  CHECK(where.regions[0].col == 2);
+  CHECK(where.regions[0].min_uv_m.x() == Approx(0.78));
+  CHECK_THAT(twin::diagnosis::describe(where), Catch::Contains("synthetic/3") && Catch::Contains("u 0.78-1.17 m"));
+  // Pure noise: nothing beyond 1 mm, and the sentence says the misfit is not localised.
+  const auto none = twin::diagnosis::locate_model_form(synthetic_field(o, no_error), 1e-3);
+  CHECK(none.stages.empty());
+  CHECK(none.regions.empty());
+  CHECK_THAT(twin::diagnosis::describe(none), Catch::Contains("spread over the whole sheet"));
 }

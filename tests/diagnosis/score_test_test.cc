@@ -6,6 +6,8 @@
 #include <numbers>
 #include <random>
 
+#include <Eigen/QR>
+
 #include "twin/diagnosis/effect_library.h"
 #include "twin/diagnosis/score_test.h"
 #include "twin/diagnosis/verdict.h"
@@ -343,4 +345,88 @@ TEST_CASE("the base moves onto the best branch a refit found, when the effect-fr
   CHECK(dx::better_branch(refits, base, sigma)->effect == "viscoelastic_relaxation");
   refits[0].without_effect_test.failure = "test_1: stage 5 did not converge";
   CHECK(dx::better_branch(refits, base, sigma) == nullptr);
+}
+
+// The twin's discretisation d in the budget (verdict.h): what noise and resolution explain is
+// b = sqrt(sigma^2 + d^2).
+TEST_CASE("the verdict judges against the noise and the twin's discretisation together", "[diagnosis][verdict]") {
+  const double sigma = 0.3e-3, d = 2.0e-3;
+  const double b = std::hypot(sigma, d);
+  const double mean_per_rms = std::sqrt(8.0 / std::numbers::pi);  // mean |e| / RMS per coordinate, Gaussian
+  const int n = 3000;
+  std::vector<dx::CandidateScore> scores(1);
+  scores[0].effect = "orthotropic_stiffness";
+  scores[0].score = {900.0, 2, 1e-40, 0.6, {}};
+  std::vector<dx::Refit> refits(1);
+  refits[0].effect = "orthotropic_stiffness";
+  const auto base = [&](double rms_m) { return set_with(rms_m, n, mean_per_rms * rms_m); };
+  const auto decide_with = [&](double base_rms_m, double refit_rms_m, double d_m) {
+    const dx::SetScore train = base(base_rms_m), test = base(base_rms_m);
+    refits[0].train = base(refit_rms_m);
+    refits[0].test = base(refit_rms_m);
+    refits[0].information_criterion = dx::bic(refits[0].train.sum_squares_m2, n, 5, sigma);
+    return dx::decide(train, test, dx::bic(train.sum_squares_m2, n, 3, sigma), scores, refits, sigma, 0.0, d_m);
+  };
+
+  // A base fit at the budget: significant against the noise alone, but what the twin's
+  // resolution leaves. A refit that takes it to 1.6 mm removes 1.2 mm RMS, less than d could.
+  const dx::Verdict within = decide_with(b, 1.6e-3, d);
+  INFO(within.summary);
+  CHECK(within.verdict == "none");
+  CHECK_FALSE(within.effect);
+  CHECK(within.budget_m == Approx(b));
+  CHECK_THAT(within.summary, Catch::Contains("at this resolution"));
+  CHECK_THAT(within.reasons.back(), Catch::Contains("no more than it could take of the twin's discretisation"));
+  // Without d the same numbers are an unexplained residual (the refit leaves 5x the noise).
+  CHECK(decide_with(b, 1.6e-3, 0.0).verdict == "unexplained");
+
+  // Beyond twice the budget and nothing explains it: model form, naming no effect.
+  const dx::Verdict beyond = decide_with(3.0 * b, 2.5 * b, d);
+  INFO(beyond.summary);
+  CHECK(beyond.verdict == "model_form");
+  CHECK_FALSE(beyond.effect);
+  REQUIRE(beyond.closest);
+  CHECK(*beyond.closest == "orthotropic_stiffness");
+  // Without d measured there is no model-form verdict: the residual may be the resolution alone.
+  CHECK(decide_with(3.0 * b, 2.5 * b, 0.0).verdict == "unexplained");
+
+  // An effect that takes the base from 3 b to the budget removes far more than d could: named.
+  const dx::Verdict named = decide_with(3.0 * b, b, d);
+  INFO(named.summary);
+  CHECK(named.verdict == "effect");
+  REQUIRE(named.effect);
+  CHECK(*named.effect == "orthotropic_stiffness");
+
+  // With the projection of the twin's error onto the effect's span known, that decides: a refit
+  // removing 1.2 mm RMS (the first case) qualifies when the span holds only 0.3 mm of the
+  // discretisation error, and does not when it holds 0.7 mm (twice that is more than 1.2 mm).
+  scores[0].score.absorbable_m2 = std::pow(0.3e-3, 2) * n;
+  const dx::Verdict small_overlap = decide_with(b, 1.6e-3, d);
+  INFO(small_overlap.summary);
+  CHECK(small_overlap.verdict == "effect");
+  scores[0].score.absorbable_m2 = std::pow(0.7e-3, 2) * n;
+  const dx::Verdict large_overlap = decide_with(b, 1.6e-3, d);
+  CHECK(large_overlap.verdict == "none");
+  CHECK_THAT(large_overlap.reasons.back(), Catch::Contains("twice the part of it in the effect's span"));
+}
+
+TEST_CASE("the score test says how much of the twin's discretisation error a candidate could absorb",
+          "[diagnosis]") {
+  std::mt19937 rng(5);
+  const int n = 600;
+  const MatrixXd base = gaussian(n, 3, rng, 1e-2), effect = gaussian(n, 2, rng, 1e-3);
+  const VectorXd r = gaussian(n, 1, rng, 0.3e-3);
+  // A change of the twin's markers made of base directions alone: nothing for the effect.
+  const VectorXd in_base = base * Eigen::Vector3d(0.1, -0.2, 0.05);
+  CHECK(dx::score_statistic(r, base, effect, 0.3e-3, &in_base).absorbable_m2 == Approx(0.0).margin(1e-12));
+  // Along the effect's first column, orthogonal to the base span: all of it.
+  const Eigen::HouseholderQR<MatrixXd> qr(base);
+  const MatrixXd q = qr.householderQ() * MatrixXd::Identity(n, 3);
+  const VectorXd along = effect.col(0) - q * (q.transpose() * effect.col(0));
+  const dx::ScoreStatistic s = dx::score_statistic(r, base, effect, 0.3e-3, &along);
+  CHECK(s.absorbable_m2 == Approx(along.squaredNorm()).epsilon(1e-9));
+  // Without it, or of another length, not computed.
+  CHECK(dx::score_statistic(r, base, effect, 0.3e-3).absorbable_m2 < 0.0);
+  const VectorXd shorter = VectorXd::Zero(n - 1);
+  CHECK(dx::score_statistic(r, base, effect, 0.3e-3, &shorter).absorbable_m2 < 0.0);
 }

@@ -6,6 +6,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "twin/diagnosis/residual_field.h"
 
@@ -41,6 +42,10 @@ inline ResidualField synthetic_field(const SyntheticOptions& o, const Shape& sha
   trial.marker_count = o.rows * o.cols;
   field.trials.push_back(trial);
   const Vec2 spacing(o.width_m / o.cols, o.height_m / o.rows);
+  // Off the grid, each marker sits where it was glued, the same in every stage.
+  std::vector<Vec2> offset(static_cast<std::size_t>(o.rows * o.cols), Vec2::Zero());
+  if (!o.grid)
+    for (Vec2& d : offset) d = Vec2(jitter(rng) * spacing.x(), jitter(rng) * spacing.y());
   for (int s = 0; s < o.stages; ++s) {
     twin::diagnosis::FieldStage stage;
     stage.trial_stage = s;
@@ -56,7 +61,7 @@ inline ResidualField synthetic_field(const SyntheticOptions& o, const Shape& sha
         m.stage = s;
         m.marker = r * o.cols + c;
         m.uv_m = Vec2((c + 0.5) * spacing.x(), (r + 0.5) * spacing.y());
-        if (!o.grid) m.uv_m += Vec2(jitter(rng) * spacing.x(), jitter(rng) * spacing.y());
+        m.uv_m += offset[static_cast<std::size_t>(m.marker)];
         m.residual_m = shape(m.uv_m, s) + Vec3(noise(rng), noise(rng), noise(rng));
         m.observed_m = Vec3(m.uv_m.x(), m.uv_m.y(), 1.0) + m.residual_m;  // predicted: the sheet flat at z = 1 m
         m.normal = Vec3::UnitZ();

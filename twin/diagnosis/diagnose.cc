@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "twin/diagnosis/diagnosis_output.h"
+#include "twin/diagnosis/model_form.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/refit.h"
 
@@ -40,6 +41,12 @@ std::vector<TrialEvaluator*> pointers(const std::vector<std::unique_ptr<TrialEva
   std::vector<TrialEvaluator*> out;
   for (const auto& e : v) out.push_back(e.get());
   return out;
+}
+
+// Where an estimated noise came from: repeated scans do not depend on the fit.
+std::string noise_source(const NoiseEstimate& noise, const std::string& fit) {
+  if (noise.method == "repeated scans of one pose") return "the training trials' repeated scans of one pose";
+  return "the training residuals of " + fit + " (" + noise.method + ")";
 }
 
 }  // namespace
@@ -99,7 +106,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     out.sigma_m = noise.sigma_m;
     out.sigma_estimated = true;
     out.sigma_relative_error = noise.relative_standard_error;
-    out.sigma_source = "the training residuals of the base fit";
+    out.sigma_source = noise_source(noise, "the base fit");
     say(fmt::format("diagnose: noise sigma estimated {:.3f} mm per coordinate ({}, {} differences)",
                     1e3 * out.sigma_m, noise.method, noise.differences_used));
   }
@@ -111,7 +118,13 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
 
   // 3. Score tests, refits of the best few, the verdict.
   say(fmt::format("diagnose: score tests of {} candidate(s) at the base fit", candidates.size()));
-  record.scores = score_candidates(candidates, train, base.material, out.sigma_m);
+  // What a candidate could absorb of the discretisation error the residual holds: the pattern
+  // scaled by how much of it the residual holds.
+  VecX held_pattern;
+  if (out.discretisation.usable() && out.discretisation.error_pattern_m.size() > 0)
+    held_pattern = std::max(0.0, out.discretisation.pattern_in_residual) * out.discretisation.error_pattern_m;
+  record.scores =
+      score_candidates(candidates, train, base.material, out.sigma_m, held_pattern.size() > 0 ? &held_pattern : nullptr);
   for (const CandidateScore& s : record.scores) {
     if (!s.skipped.empty()) {
       say(fmt::format("  score {:<24} skipped: {}", s.effect, s.skipped));
@@ -188,7 +201,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
       const NoiseEstimate noise = estimate_noise(record.train_before);
       out.sigma_m = noise.sigma_m;
       out.sigma_relative_error = noise.relative_standard_error;
-      out.sigma_source = "the training residuals of the base fit on the " + branch->effect + " refit's equilibria";
+      out.sigma_source = noise_source(noise, "the base fit on the " + branch->effect + " refit's equilibria");
       say(fmt::format("diagnose: noise sigma estimated again on the new base: {:.3f} mm per coordinate",
                       1e3 * out.sigma_m));
     }
@@ -211,7 +224,7 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
                       1e3 * noise.sigma_m, r.effect, 1e3 * out.sigma_m));
       out.sigma_m = noise.sigma_m;
       out.sigma_relative_error = noise.relative_standard_error;
-      out.sigma_source = "the training residuals of the " + r.effect + " refit (the lowest estimate of the fits)";
+      out.sigma_source = noise_source(noise, "the " + r.effect + " refit (the lowest estimate of the fits)");
     }
   }
   out.noise_floor_m = noise_floor_mean_m(out.sigma_m);
@@ -221,37 +234,36 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   }
   const double judged_bic = bic(out.base_train.sum_squares_m2, out.base_train.residual_count,
                                 static_cast<int>(base_parameters().size()), out.sigma_m);
+  // The twin's own error at this resolution is part of the budget the verdict judges against.
+  // The discretisation error the base fit's residual holds (discretisation_check.h): the
+  // change to twice the triangles, scaled by how much of it the residual holds.
+  const bool measured = out.discretisation.usable() && out.discretisation.triangles > 0;
+  const double d = measured ? out.discretisation.error_in_residual_rms_m : 0.0;
   out.verdict = decide(out.base_train, out.base_test, judged_bic, record.scores, record.refits, out.sigma_m,
-                       out.sigma_relative_error);
+                       out.sigma_relative_error, measured ? std::optional<double>(d) : std::nullopt);
   if (!rebase_note.empty()) out.verdict.reasons.insert(out.verdict.reasons.begin(), rebase_note);
+  out.model_form_misfit = out.verdict.verdict == "model_form";
   {
-    // What the noise and the twin's resolution explain, and whether the fit the verdict ends
-    // with (the base, or the base with the named effect) is still beyond it: model-form misfit.
-    const double d = out.discretisation.usable() ? out.discretisation.rms_m : 0.0;
-    const double explained = std::hypot(out.sigma_m, d);
-    const SetScore& final_train = out.verdict.chosen ? out.verdict.chosen->train : out.base_train;
-    out.model_form_misfit = final_train.rms_m() > kModelFormFactor * explained;
-    if (out.base_train.rms_m() > kModelFormFactor * explained) {
-      const StageScore* worst = nullptr;
-      for (const StageScore& st : final_train.stages) {
-        if (std::isfinite(st.correspondence_mean_m) && (!worst || st.correspondence_mean_m > worst->correspondence_mean_m)) worst = &st;
-      }
-      const std::string budget = fmt::format(
-          "the noise ({:.3f} mm) and the twin's discretisation ({}) explain {:.3f} mm RMS per coordinate", 1e3 * out.sigma_m,
-          out.discretisation.usable() ? fmt::format("{:.3f} mm", 1e3 * d) : std::string("not measured"), 1e3 * explained);
+    const double budget_m = out.verdict.budget_m;
+    const std::string budget = fmt::format(
+        "the noise ({:.3f} mm) and the twin's discretisation ({}) explain {:.3f} mm RMS per coordinate", 1e3 * out.sigma_m,
+        measured ? fmt::format("{:.3f} mm held by the residual", 1e3 * d) : std::string("not measured"), 1e3 * budget_m);
+    if (out.model_form_misfit) {
+      // Where: the base fit's training residuals, by stage and by ninth of the sheet.
+      out.model_form = locate_model_form(record.train_before, kModelFormFactor * budget_m);
       out.verdict.reasons.insert(
           out.verdict.reasons.begin(),
-          out.model_form_misfit
-              ? fmt::format("model-form misfit: {}; the {} leaves {:.3f} mm ({:.1f}x){}: the twin's model is wrong "
-                            "there in a way no candidate here explains",
-                            budget, out.verdict.chosen ? "fit with " + out.verdict.chosen->effect : std::string("base fit"),
-                            1e3 * final_train.rms_m(), final_train.rms_m() / explained,
-                            worst ? fmt::format(", most at stage {} of {} ({:.2f} mm mean)", worst->stage, worst->trial,
-                                                1e3 * worst->correspondence_mean_m)
-                                  : std::string())
-              : fmt::format("{}; the base fit left {:.3f} mm ({:.1f}x), the fit with {} {:.3f} mm", budget,
-                            1e3 * out.base_train.rms_m(), out.base_train.rms_m() / explained,
-                            out.verdict.chosen->effect, 1e3 * final_train.rms_m()));
+          fmt::format("model-form misfit: {}; the base fit leaves {:.3f} mm ({:.1f}x){}; {}: the twin's model is wrong "
+                      "there in a way no candidate here explains",
+                      budget, 1e3 * out.base_train.rms_m(), out.base_train.rms_m() / budget_m,
+                      out.verdict.closest ? ", the closest candidate (" + *out.verdict.closest + ") does not bring it within"
+                                          : std::string(),
+                      describe(*out.model_form)));
+    } else if (out.base_train.rms_m() > kModelFormFactor * budget_m && out.verdict.chosen) {
+      out.verdict.reasons.insert(out.verdict.reasons.begin(),
+                                 fmt::format("{}; the base fit left {:.3f} mm ({:.1f}x), the fit with {} {:.3f} mm", budget,
+                                             1e3 * out.base_train.rms_m(), out.base_train.rms_m() / budget_m,
+                                             out.verdict.chosen->effect, 1e3 * out.verdict.chosen->train.rms_m()));
     }
   }
   record.base_bic = judged_bic;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "twin/discretisation_check.h"
+#include "twin/diagnosis/model_form.h"
 #include "twin/diagnosis/refit.h"
 #include "twin/diagnosis/verdict.h"
 
@@ -50,12 +51,12 @@ struct DiagnoseOutcome {
   double sigma_relative_error = 0.0;  // when estimated: its sampling error (noise_estimate.h)
   std::string sigma_source;    // when estimated: the fit whose training residuals gave it
   double noise_floor_m = 0.0;  // expected correspondence error mean under noise alone
-  // The twin's discretisation error at the base fit (discretisation_check.h), and whether the
-  // fit the verdict ends with (the base, or the base with the named effect) leaves a training
-  // residual beyond kModelFormFactor times what the noise and the discretisation explain (their
-  // sum in quadrature): then the model's form is wrong somewhere, which the evidence says first.
+  // The twin's discretisation error at the base fit (discretisation_check.h): with the noise, the
+  // budget the verdict judges against (verdict.h). model_form_misfit: the verdict is "model_form",
+  // and model_form says where.
   DiscretisationCheck discretisation;
   bool model_form_misfit = false;
+  std::optional<ModelFormLocation> model_form;
   SetScore base_train, base_test;
   // With the named effect (verdict "effect"), or the closest candidate ("unexplained"):
   std::vector<ParameterEstimate> parameters;  // every fitted parameter, 95 % intervals
@@ -69,10 +70,5 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& options);
 // Mean of |e| for e with independent N(0, sigma^2) coordinates in 3D: sigma sqrt(8 / pi). The
 // correspondence error a perfect model would leave (the "noise floor" of verdict.json).
 double noise_floor_mean_m(double sigma_m);
-
-// A base fit whose training RMS per coordinate exceeds this multiple of sqrt(sigma^2 + d^2)
-// (noise sigma, discretisation d) has a model-form misfit: twice is far beyond the sampling
-// spread of an RMS over hundreds of residuals.
-inline constexpr double kModelFormFactor = 2.0;
 
 }  // namespace twin::diagnosis

@@ -96,7 +96,29 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
   j["discretisation_mm"] = o.discretisation.usable() && o.discretisation.triangles > 0
                                ? nlohmann::json(1e3 * o.discretisation.rms_m)
                                : nlohmann::json(nullptr);
+  const bool measured = o.discretisation.usable() && o.discretisation.triangles > 0;
+  j["discretisation_in_residual_mm"] = measured ? nlohmann::json(1e3 * o.discretisation.error_in_residual_rms_m)
+                                                : nlohmann::json(nullptr);
   j["model_form_misfit"] = o.model_form_misfit;
+  j["budget_mm"] = 1e3 * v.budget_m;  // sqrt(sigma^2 + d^2): what noise and discretisation explain
+  j["model_form"] = nullptr;
+  if (o.model_form) {
+    nlohmann::json where{{"threshold_mm", 1e3 * o.model_form->threshold_m},
+                         {"stages", nlohmann::json::array()},
+                         {"regions", nlohmann::json::array()}};
+    for (const MisfitStage& st : o.model_form->stages)
+      where["stages"].push_back({{"stage", st.label}, {"rms_mm", 1e3 * st.rms_m}, {"markers", st.samples}});
+    for (const MisfitRegion& r : o.model_form->regions) {
+      where["regions"].push_back({{"trial", r.trial},
+                                  {"row", r.row},
+                                  {"col", r.col},
+                                  {"u_m", {r.min_uv_m.x(), r.max_uv_m.x()}},
+                                  {"v_m", {r.min_uv_m.y(), r.max_uv_m.y()}},
+                                  {"rms_mm", 1e3 * r.rms_m},
+                                  {"samples", r.samples}});
+    }
+    j["model_form"] = where;
+  }
   j["held_out"] = before_after(o.base_test, o.after_test, effect);
   j["train"] = before_after(o.base_train, o.after_train, effect);
   j["base_branch_of"] = record.base_branch_of ? nlohmann::json(*record.base_branch_of) : nlohmann::json(nullptr);
@@ -109,6 +131,11 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
                      {"dof", s.score.dof},
                      {"p_value", s.score.p_value},
                      {"explained_fraction", s.score.explained_fraction},
+                     // RMS per coordinate it could take of the twin's discretisation error (mm)
+                     {"absorbable_discretisation_mm",
+                      s.score.absorbable_m2 >= 0.0 && o.base_train.residual_count > 0
+                          ? nlohmann::json(1e3 * std::sqrt(s.score.absorbable_m2 / o.base_train.residual_count))
+                          : nlohmann::json(nullptr)},
                      {"skipped", s.skipped.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.skipped)},
                      {"profile", nullptr},
                      {"refit", nullptr}};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -60,16 +61,24 @@ bool fit_difference(const std::vector<Vec2>& offsets, const Eigen::MatrixXd& Y, 
   return std::isfinite(h) && h > 0.0;
 }
 
-void neighbour_differences(const ResidualField& field, const std::vector<int>& samples, Vec3 ResidualSample::*value,
-                           int degree, int neighbours, std::vector<double>& scaled) {
-  const int n = static_cast<int>(samples.size());
+// Markers of one stage (or one difference of two scans): material coordinates and a value.
+struct MarkerValues {
+  std::vector<Vec2> uv_m;
+  std::vector<Vec3> value;
+};
+
+// Appends d^2 / (variance_factor (1 + h)) per coordinate for each marker whose neighbours
+// determine the polynomial: variance_factor is 1 for a single scan, 2 for the difference of two.
+void neighbour_differences(const MarkerValues& markers, int degree, int neighbours, double variance_factor,
+                           std::vector<double>& scaled) {
+  const int n = static_cast<int>(markers.uv_m.size());
   if (n < neighbours + 1) return;
   std::vector<std::pair<double, int>> by_distance(n);
   std::vector<Vec2> offsets;
   Eigen::MatrixXd Y(neighbours, 3);
   for (int a = 0; a < n; ++a) {
-    const Vec2& uv = field.samples[samples[a]].uv_m;
-    for (int b = 0; b < n; ++b) by_distance[b] = {(field.samples[samples[b]].uv_m - uv).squaredNorm(), b};
+    const Vec2& uv = markers.uv_m[a];
+    for (int b = 0; b < n; ++b) by_distance[b] = {(markers.uv_m[b] - uv).squaredNorm(), b};
     std::partial_sort(by_distance.begin(), by_distance.begin() + neighbours + 1, by_distance.end());
     const double reach = std::sqrt(by_distance[neighbours].first);
     if (!(reach > 0.0)) continue;
@@ -77,9 +86,8 @@ void neighbour_differences(const ResidualField& field, const std::vector<int>& s
     for (int k = 0; k <= neighbours && static_cast<int>(offsets.size()) < neighbours; ++k) {
       const int b = by_distance[k].second;
       if (b == a) continue;
-      const ResidualSample& s = field.samples[samples[b]];
-      offsets.push_back((s.uv_m - uv) / reach);
-      Y.row(static_cast<Eigen::Index>(offsets.size()) - 1) = (s.*value).transpose();
+      offsets.push_back((markers.uv_m[b] - uv) / reach);
+      Y.row(static_cast<Eigen::Index>(offsets.size()) - 1) = markers.value[b].transpose();
     }
     if (static_cast<int>(offsets.size()) < neighbours) continue;
     // A marker whose neighbours do not determine the polynomial (at an edge, the nearest may
@@ -88,34 +96,85 @@ void neighbour_differences(const ResidualField& field, const std::vector<int>& s
     // observed markers rose by 7-9 % with them in at the highest degree they determine).
     Vec3 d;
     double h = 0.0;
-    if (!fit_difference(offsets, Y, field.samples[samples[a]].*value, degree, d, h)) continue;
-    for (int c = 0; c < 3; ++c) scaled.push_back(d(c) * d(c) / (1.0 + h));
+    if (!fit_difference(offsets, Y, markers.value[a], degree, d, h)) continue;
+    for (int c = 0; c < 3; ++c) scaled.push_back(d(c) * d(c) / (variance_factor * (1.0 + h)));
   }
 }
 
-// The robust scale of the differences of one quantity of every sample (residual or observation).
+// The highest degree the marker count allows: a stage with too few seen markers for the quartic
+// gets a quadratic on 12, else a plane on 8 (they cancel less of a smooth field: an upper bound
+// from that stage).
+void local_fit_differences(const MarkerValues& markers, double variance_factor, std::vector<double>& scaled) {
+  const int n = static_cast<int>(markers.uv_m.size());
+  if (n > kNeighbours) neighbour_differences(markers, kFitDegree, kNeighbours, variance_factor, scaled);
+  else if (n > 12) neighbour_differences(markers, 2, 12, variance_factor, scaled);
+  else neighbour_differences(markers, 1, 8, variance_factor, scaled);
+}
+
+// The robust scale of a set of scaled squared differences.
 struct Scale {
   double sigma_m = std::numeric_limits<double>::infinity();
   int count = 0;
 };
 
-Scale difference_scale(const ResidualField& field, Vec3 ResidualSample::*value) {
-  std::vector<double> scaled;
+Scale robust_scale(std::vector<double>& scaled) {
   Scale out;
-  for (int s = 0; s < static_cast<int>(field.stages.size()); ++s) {
-    const std::vector<int> samples = field.samples_of_stage(s);
-    // A stage with too few seen markers for the quartic gets a quadratic on 12, else a plane
-    // on 8 (they cancel less of a smooth field: an upper bound from that stage).
-    const int n = static_cast<int>(samples.size());
-    if (n > kNeighbours) neighbour_differences(field, samples, value, kFitDegree, kNeighbours, scaled);
-    else if (n > 12) neighbour_differences(field, samples, value, 2, 12, scaled);
-    else neighbour_differences(field, samples, value, 1, 8, scaled);
-  }
   out.count = static_cast<int>(scaled.size());
   if (scaled.size() < kMinDifferences) return out;
   const auto mid = scaled.begin() + static_cast<std::ptrdiff_t>(scaled.size() / 2);
   std::nth_element(scaled.begin(), mid, scaled.end());
   out.sigma_m = std::sqrt(*mid / kChiSquare1Median);
+  return out;
+}
+
+// One quantity of every sample (residual or observation), stage by stage.
+Scale difference_scale(const ResidualField& field, Vec3 ResidualSample::*value) {
+  std::vector<double> scaled;
+  for (int s = 0; s < static_cast<int>(field.stages.size()); ++s) {
+    MarkerValues markers;
+    for (int i : field.samples_of_stage(s)) {
+      markers.uv_m.push_back(field.samples[i].uv_m);
+      markers.value.push_back(field.samples[i].*value);
+    }
+    local_fit_differences(markers, 1.0, scaled);
+  }
+  return robust_scale(scaled);
+}
+
+// Repeated scans of one pose: for each stage and the next scan of its pose, the difference of
+// the two observations of every marker both saw holds twice the noise variance plus what the
+// sheet did between the scans (relaxation: smooth over the sheet, which the local fit cancels).
+// The sheet's shape, folds and all, cancels in the difference. Consecutive pairs share a scan
+// (a-b and b-c), so only every other pair of a pose is independent of the one before: the
+// sampling error counts those (Scale::count stays every difference).
+struct RepeatScale {
+  Scale scale;
+  int independent = 0;
+};
+
+RepeatScale repeated_scan_scale(const ResidualField& field) {
+  std::vector<double> scaled;
+  RepeatScale out;
+  int pair_in_group = 0;
+  for (int s = 0; s + 1 < static_cast<int>(field.stages.size()); ++s) {
+    if (field.stages[s].pose_group < 0 || field.stages[s + 1].pose_group != field.stages[s].pose_group) {
+      pair_in_group = 0;
+      continue;
+    }
+    std::map<int, const ResidualSample*> first;
+    for (int i : field.samples_of_stage(s)) first[field.samples[i].marker] = &field.samples[i];
+    MarkerValues difference;
+    for (int i : field.samples_of_stage(s + 1)) {
+      const auto it = first.find(field.samples[i].marker);
+      if (it == first.end()) continue;
+      difference.uv_m.push_back(it->second->uv_m);
+      difference.value.push_back(field.samples[i].observed_m - it->second->observed_m);
+    }
+    const std::size_t before = scaled.size();
+    local_fit_differences(difference, 2.0, scaled);
+    if (pair_in_group++ % 2 == 0) out.independent += static_cast<int>(scaled.size() - before);
+  }
+  out.scale = robust_scale(scaled);
   return out;
 }
 
@@ -128,16 +187,26 @@ NoiseEstimate estimate_noise(const ResidualField& field) {
                                 " scalar marker differences in the residual field; expected at least " +
                                 std::to_string(kMinDifferences) + " (give the noise level instead)");
   const Scale observed = difference_scale(field, &ResidualSample::observed_m);
+  const RepeatScale repeated = repeated_scan_scale(field);
   NoiseEstimate out;
   out.from_residuals_m = residual.sigma_m;
   out.from_observations_m = observed.sigma_m;
+  out.from_repeated_scans_m = repeated.scale.sigma_m;
+  // Var(sample median) = 1 / (4 N f(m)^2), f the chi-square(1) density at its median m; sigma
+  // goes as the median's square root: 0.5 / (2 f(m) m) / sqrt(N) = 1.166 / sqrt(N).
+  const auto standard_error = [](int n) { return 1.166 / std::sqrt(static_cast<double>(std::max(n, 1))); };
+  if (std::isfinite(repeated.scale.sigma_m)) {
+    out.sigma_m = repeated.scale.sigma_m;
+    out.differences_used = repeated.scale.count;
+    out.relative_standard_error = standard_error(repeated.independent);
+    out.method = "repeated scans of one pose";
+    return out;
+  }
   const bool use_observed = observed.sigma_m < residual.sigma_m;
   const Scale& used = use_observed ? observed : residual;
   out.sigma_m = used.sigma_m;
   out.differences_used = used.count;
-  // Var(sample median) = 1 / (4 N f(m)^2), f the chi-square(1) density at its median m; sigma
-  // goes as the median's square root: 0.5 / (2 f(m) m) / sqrt(N) = 1.166 / sqrt(N).
-  out.relative_standard_error = 1.166 / std::sqrt(static_cast<double>(std::max(used.count, 1)));
+  out.relative_standard_error = standard_error(used.count);
   out.method = use_observed ? "local quartic fits of the observed markers" : "local quartic fits of the residuals";
   return out;
 }

@@ -34,6 +34,13 @@ double clamp_distance(const Trial& trial, int stage, const Vec2& uv) {
   return best;
 }
 
+// Whether `stage` scans the sheet `previous` scanned, nothing moved between: the same clamp
+// poses, and no new moment at which the clamps stopped.
+bool same_pose_scan(const TrialStage& previous, const TrialStage& stage) {
+  if (!same_clamp_poses(previous, stage)) return false;
+  return !stage.clamps_moved_at_s || previous.clamps_moved_at_s == stage.clamps_moved_at_s;
+}
+
 }  // namespace
 
 FieldTrial field_trial_on(const SheetMesh& mesh, const std::string& name) {
@@ -148,6 +155,7 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
   for (std::size_t s = 0; s < trial.stages.size(); ++s) {
     const TrialStage& stage = trial.stages[s];
     const StageFit& sf = fit.stages[s];
+    if (s == 0 || !same_pose_scan(trial.stages[s - 1], stage)) ++field.pose_groups;
     if (!stage.observed.has_markers()) continue;
     if (!points) points.emplace(mesh, trial.marker_uv_m);
     const std::vector<Vec3> normals = vertex_normals(mesh, sf.x);
@@ -161,6 +169,7 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
     fs.label = label + "/" + stage.id;
     fs.age_s = stage_age_s(trial, static_cast<int>(s));
     fs.load_m = stage_load_m(trial, static_cast<int>(s));
+    fs.pose_group = field.pose_groups - 1;
     const int stage_index = static_cast<int>(field.stages.size());
     double error_sum = 0.0;
     for (std::size_t m = 0; m < stage.observed.markers_m.size(); ++m) {

@@ -46,6 +46,10 @@ struct FieldStage {
   double load_m = 0.0;      // stage_load_m()
   int samples = 0;          // seen markers
   double mean_error_m = 0.0;  // mean |residual| over its samples (the correspondence error mean)
+  // Scans of one pose: stages of one trial scanned one after another with the clamps untouched
+  // (same_clamp_poses, and no new clamps_moved_at_s) share a pose group, numbered over the field
+  // from 0; -1: a stage known to be no other stage's pose (fields made without a trial).
+  int pose_group = -1;
 };
 
 struct ResidualField {
@@ -53,6 +57,7 @@ struct ResidualField {
   std::vector<FieldStage> stages;  // marker stages of every trial, in trial then stage order
   std::vector<ResidualSample> samples;  // grouped by stage, in stage then marker order
   int fitted_parameters = 0;  // parameters fitted to these trials (charged in the overall dof)
+  int pose_groups = 0;        // FieldStage::pose_group runs from 0 to this - 1
 
   // Indices of the samples of stage s.
   std::vector<int> samples_of_stage(int s) const;

@@ -48,7 +48,8 @@ Projection project(const Eigen::MatrixXd& a, const Eigen::VectorXd& r) {
 }  // namespace
 
 ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::MatrixXd& base_jacobian,
-                               const Eigen::MatrixXd& effect_jacobian, double sigma_m) {
+                               const Eigen::MatrixXd& effect_jacobian, double sigma_m,
+                               const Eigen::VectorXd* discretisation_change_m) {
   Eigen::MatrixXd joint(residuals_m.size(), base_jacobian.cols() + effect_jacobian.cols());
   joint << base_jacobian, effect_jacobian;
   const Projection base = project(base_jacobian, residuals_m);
@@ -62,12 +63,16 @@ ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::
   s.p_value = chi_square_upper_tail(s.statistic, s.dof);
   const double total = residuals_m.squaredNorm();
   s.explained_fraction = total > 0.0 ? gain / total : 0.0;
+  if (discretisation_change_m && discretisation_change_m->size() == residuals_m.size()) {
+    s.absorbable_m2 = std::max(0.0, project(joint, *discretisation_change_m).square -
+                                        project(base_jacobian, *discretisation_change_m).square);
+  }
   return s;
 }
 
 std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>& candidates,
                                              const std::vector<TrialEvaluator*>& training, const Material& base_fit,
-                                             double sigma_m) {
+                                             double sigma_m, const Eigen::VectorXd* discretisation_change_m) {
   std::vector<const Trial*> trials;
   for (TrialEvaluator* t : training) trials.push_back(&t->trial());
   std::vector<CandidateScore> scores;
@@ -95,7 +100,7 @@ std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>&
         const int kb = static_cast<int>(base_parameters().size());
         const ScoreStatistic s = score_statistic(
             e.residuals_m, e.coordinate_jacobian.leftCols(kb),
-            e.coordinate_jacobian.rightCols(e.coordinate_jacobian.cols() - kb), sigma_m);
+            e.coordinate_jacobian.rightCols(e.coordinate_jacobian.cols() - kb), sigma_m, discretisation_change_m);
         if (s.dof > 0 && (!tested || s.statistic > c.score.statistic)) {
           c.score = s;
           if (value) c.profile = ScoreProfilePoint{effect.score_profile->parameter, *value, static_cast<int>(values.size())};

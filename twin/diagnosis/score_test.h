@@ -34,13 +34,20 @@ struct ScoreStatistic {
   // coordinates: minimises |r + J step| (least norm where columns add no rank). A refit starts
   // there too (refit.h): it is the one-step estimate of the effect.
   Eigen::VectorXd step;
+  // Of the twin's own discretisation error (the residual's change to a finer twin,
+  // discretisation_check.h), the part the effect's span takes beyond the base span: what a refit
+  // with this effect could remove without any effect in the data (m^2, summed); negative when
+  // not computed.
+  double absorbable_m2 = -1.0;
 };
 
 // The statistic above. Columns are scaled to unit norm before the rank-revealing QR, so
 // parameters of very different units are treated alike; a column whose norm is below
 // 1e-9 of the largest, or that is dependent on the others, adds no rank.
+// With `discretisation_change_m` (same length as the residuals), absorbable_m2 too.
 ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::MatrixXd& base_jacobian,
-                               const Eigen::MatrixXd& effect_jacobian, double sigma_m);
+                               const Eigen::MatrixXd& effect_jacobian, double sigma_m,
+                               const Eigen::VectorXd* discretisation_change_m = nullptr);
 
 // Where a profiled candidate's statistic was taken: its profiled parameter's value, and how many
 // values were tried (the Bonferroni factor of its p-value).
@@ -61,8 +68,11 @@ struct CandidateScore {
 // Jacobian of the candidate's score parameters, and returns the statistics in the candidates'
 // order; a profiled candidate once per profile value (effect_library.h). Warm starts are
 // dropped between candidates (their parameter lists differ).
+// With `discretisation_change_m` (the discretisation error of the training trials at base_fit
+// their residual holds: DiscretisationCheck::error_pattern_m scaled by pattern_in_residual),
+// each score's absorbable_m2 too.
 std::vector<CandidateScore> score_candidates(const std::vector<CandidateEffect>& candidates,
                                              const std::vector<TrialEvaluator*>& training, const Material& base_fit,
-                                             double sigma_m);
+                                             double sigma_m, const Eigen::VectorXd* discretisation_change_m = nullptr);
 
 }  // namespace twin::diagnosis

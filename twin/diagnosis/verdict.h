@@ -33,6 +33,27 @@
 //    floor, "explained" by rest curvature, held-out 0.605 -> 0.605 mm, 1 % of the gap). Then
 //    "effect"; otherwise, or when no candidate qualifies, "unexplained", naming the closest
 //    candidate and how much of the residual it took.
+//
+// The twin's own error. The twin at its resolution misses the continuum, and the part of that
+// error the base fit's residual holds, d per coordinate, is measured (discretisation_check.h: the
+// base fit's markers on twice the triangles give the error's pattern, and the residual's
+// least-squares coefficient along it how much of it is there; none when not measured). Noise and
+// discretisation together explain a residual RMS of b = sqrt(sigma^2 + d^2). Then:
+//  - a candidate qualifies only when its refit removes more than it could take of the twin's own
+//    error (an effect's parameters can bend the twin toward its finer self): the training sum
+//    of squares falls by more than (2 b)^2, b^2 the part of the residual's change to a finer twin
+//    in the effect's span beyond the base span (CandidateScore absorbable_m2: were effect and
+//    discretisation aligned, the refit would remove (a + b)^2, so more than (2 b)^2 means the
+//    effect's own part a exceeds b); without that projection, by more than d^2 per residual;
+//  - step 3 measures "explains" against b: the floor is b sqrt(8/pi) and the gap is above it;
+//  - no effect explaining it (and d measured): a base fit beyond kModelFormFactor b on the
+//    training trials is
+//    "model_form" (the model is wrong in a way no candidate explains; diagnose.cc says where),
+//    one within kNoiseTolerance b on both sets is "none" (what remains is what the noise and the
+//    twin's resolution leave: no missing effect is supported at this resolution), and anything
+//    between is "unexplained".
+// Not measured, all of this is the rules above: "model_form" needs the discretisation measured
+// (a large residual may be the resolution alone), the "none" of a resolution needs d > 0.
 
 #include <optional>
 #include <string>
@@ -49,6 +70,9 @@ inline constexpr double kScoreAlpha = 1e-3;         // family-wise, over the can
 inline constexpr double kFloorRatio = 1.5;  // mean marker error / noise floor left by an accepted effect
 inline constexpr double kMaxSignificantStageFraction = 0.5;  // training stages an accepted effect may leave significant
 inline constexpr double kMinGapExplained = 0.25;  // share of the base's mean error above the floor an accepted effect removes
+// A training RMS beyond this multiple of sqrt(sigma^2 + d^2) (noise sigma, discretisation d) is a
+// model-form misfit: twice is far beyond the sampling spread of an RMS over hundreds of residuals.
+inline constexpr double kModelFormFactor = 2.0;
 
 struct ResidualTest {
   double chi_square = 0.0, dof = 0.0, p_value = 1.0, rms_ratio = 0.0;  // rms_ratio: RMS / sigma
@@ -61,16 +85,18 @@ ResidualTest residual_test(const SetScore& set, int fitted_parameters, double si
                            double sigma_relative_error = 0.0);
 
 struct Verdict {
-  std::string verdict;                 // "effect" | "none" | "unexplained"
+  std::string verdict;                 // "effect" | "none" | "unexplained" | "model_form"
   std::optional<std::string> effect;   // named effect ("effect" only)
-  std::optional<std::string> closest;  // best candidate when "unexplained"
+  std::optional<std::string> closest;  // best candidate when "unexplained" or "model_form"
+  double budget_m = 0.0;               // sqrt(sigma^2 + d^2): what noise and discretisation explain
   std::string summary;                 // one line
   std::vector<std::string> reasons;    // the evidence, one sentence each
   const Refit* chosen = nullptr;       // refit of the named effect (or of the closest one)
 };
 
+// discretisation_m: d above (none: not measured).
 Verdict decide(const SetScore& base_train, const SetScore& base_test, double base_bic,
                const std::vector<CandidateScore>& scores, const std::vector<Refit>& refits, double sigma_m,
-               double sigma_relative_error = 0.0);
+               double sigma_relative_error = 0.0, std::optional<double> discretisation_m = std::nullopt);
 
 }  // namespace twin::diagnosis
