@@ -87,9 +87,11 @@ for effect in "${effect_list[@]}"; do
 done
 wait
 
-# Per set: effect, verdict class (right / wrong_name / none / unexplained / failed), errors.
+# Per set: effect, verdict class (right / wrong_name / none / unexplained / model_form / failed),
+# errors, and the error budget: the base fit's held-out mean error over the noise floor and the
+# discretisation error its residual holds (twin/discretisation_check.h).
 results="$out/results.tsv"
-printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\tmeets_gap_target\n' > "$results"
+printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\tmeets_gap_target\tbase_over_floor\tdiscretisation_mm\n' > "$results"
 index=0
 for effect in "${effect_list[@]}"; do
   index=$((index + 1))
@@ -100,7 +102,7 @@ for effect in "${effect_list[@]}"; do
     diag_s=$(cat "$dir/seconds_diagnose.txt" 2>/dev/null || echo nan)
     if [ -f "$dir/error.txt" ] || [ ! -f "$dir/report/verdict.json" ]; then
       echo "blind_accuracy: $effect seed $seed: $(cat "$dir/error.txt" 2>/dev/null)" >&2
-      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\tno\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
+      printf '%s\t%s\tfailed\t-\t-\tnan\tnan\tnan\tno\t%s\t%s\tnan\tno\tnan\tnan\n' "$effect" "$seed" "$gen_s" "$diag_s" >> "$results"
       continue
     fi
     truth=$(jq -r '.effect' "$dir/truth/hidden_effect.json")
@@ -108,8 +110,10 @@ for effect in "${effect_list[@]}"; do
     jq -r --arg truth "$truth" --arg seed "$seed" --arg g "$gen_s" --arg d "$diag_s" --arg shift "$shift_mm" '
       (.held_out.before_mean_mm // null) as $b | (.held_out.after_mean_mm // null) as $a |
       (.noise_floor_mm // null) as $f |
-      (if $truth == "none" then (if .verdict == "none" then "right" elif .verdict == "effect" then "wrong_name" else "unexplained" end)
-       elif $truth == "outside_library" then (if .verdict == "unexplained" then "right" elif .verdict == "effect" then "wrong_name" else "none" end)
+      (if $truth == "none" then (if .verdict == "none" or .verdict == "model_form" then "right"
+                                 elif .verdict == "effect" then "wrong_name" else "unexplained" end)
+       elif $truth == "outside_library" then (if .verdict == "unexplained" or .verdict == "model_form" then "right"
+                                              elif .verdict == "effect" then "wrong_name" else "none" end)
        elif .verdict == "effect" then (if .effect == $truth then "right" else "wrong_name" end)
        else .verdict end) as $outcome |
       (if $truth == "none" or $truth == "outside_library" then "-"
@@ -117,13 +121,16 @@ for effect in "${effect_list[@]}"; do
       (if $truth == "none" or $truth == "outside_library" then "-"
        elif ($a != null and $b != null and $f != null and $b > $f and ($a - $f) <= 0.5 * ($b - $f) and $a <= 1.5 * $f)
        then "yes" else "no" end) as $gap |
-      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift, $gap]
+      (if $b != null and $f != null and $f > 0 then ($b / $f) else "nan" end) as $over |
+      [$truth, $seed, $outcome, .verdict, (.effect // "-"), ($b // "nan"), ($a // "nan"), ($f // "nan"), $meets, $g, $d, $shift, $gap,
+       $over, (.discretisation_in_residual_mm // "nan")]
       | map(tostring) | join("\t")' "$dir/report/verdict.json" >> "$results"
     echo "blind_accuracy: $effect seed $seed: $(tail -1 "$results" | cut -f3-9)" >&2
   done
 done
 
-# The table: per effect, sets, right, wrong name, none, unexplained, failed, mean held-out error.
+# The table: per effect, sets, right, wrong name, none, unexplained, model_form, failed, mean
+# held-out error, and the budget (mean base/floor, mean discretisation error held).
 echo
 echo "blind accuracy: $sets set(s) per effect, twin of $triangles triangles, $truth_model truth, results in $results"
 awk -F'\t' '
@@ -135,18 +142,22 @@ awk -F'\t' '
     # (the mean marker error noise alone leaves, which no model can go under).
     if ($6 != "nan" && $8 != "nan" && 0.5 * $6 >= $8) { possible[e]++; if ($9 == "yes") met_possible[e]++ }
     if ($13 == "yes") gaps[e]++
+    if ($14 != "nan" && $14 != "") { over[e] += $14; overs[e]++ }
+    if ($15 != "nan" && $15 != "") { disc[e] += $15; discs[e]++ }
     if ($12 != "nan" && $12 != "") { shift[e] += $12; shifts[e]++ }
     if ($10 != "nan") { gs += $10; gn++ } if ($11 != "nan") { ds += $11; dn++ } }
   END {
-    printf "%-24s %4s %5s %10s %5s %11s %6s %10s %10s %8s %9s %8s %12s\n", "effect", "sets", "right", "wrong_name", "none",
-           "unexplained", "failed", "before_mm", "after_mm", "err_ok", "shift_mm", "gap_ok", "err_possible"
+    printf "%-24s %4s %5s %10s %5s %11s %10s %6s %10s %10s %8s %9s %8s %12s %10s %8s\n", "effect", "sets", "right",
+           "wrong_name", "none", "unexplained", "model_form", "failed", "before_mm", "after_mm", "err_ok", "shift_mm",
+           "gap_ok", "err_possible", "base/floor", "disc_mm"
     for (i = 1; i <= n; i++) { e = names[i]
-      printf "%-24s %4d %5d %10d %5d %11d %6d %10s %10s %8s %9s %8s %12s\n", e, sets[e], count[e, "right"],
-             count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "failed"],
+      printf "%-24s %4d %5d %10d %5d %11d %10d %6d %10s %10s %8s %9s %8s %12s %10s %8s\n", e, sets[e], count[e, "right"],
+             count[e, "wrong_name"], count[e, "none"], count[e, "unexplained"], count[e, "model_form"], count[e, "failed"],
              errs[e] ? sprintf("%.3f", before[e] / errs[e]) : "-", errs[e] ? sprintf("%.3f", after[e] / errs[e]) : "-",
              (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", meets[e], sets[e]),
              shifts[e] ? sprintf("%.2f", shift[e] / shifts[e]) : "-",
              (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", gaps[e], sets[e]),
-             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", met_possible[e], possible[e]) }
+             (e == "none" || e == "outside_library") ? "-" : sprintf("%d/%d", met_possible[e], possible[e]),
+             overs[e] ? sprintf("%.1f", over[e] / overs[e]) : "-", discs[e] ? sprintf("%.2f", disc[e] / discs[e]) : "-" }
     if (gn) printf "mean seconds: generate %.1f (%d sets), diagnose %s\n", gs / gn, gn, dn ? sprintf("%.1f (%d sets)", ds / dn, dn) : "-"
   }' "$results"
