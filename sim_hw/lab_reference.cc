@@ -105,7 +105,20 @@ IndependentStages carry_onto(const ReferenceSheet& reference, const IndependentP
   out.model = std::move(to);
   rs::PathOptions options;
   options.jaws = reference.jaws;
+  // A stage identical to the one before on `from` (a repeated scan of one pose, at the same age:
+  // without creep every age is 0) has the same equilibrium here: no second solve.
+  const auto same_holds = [](const std::vector<rs::JawHold>& a, const std::vector<rs::JawHold>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (a[i].centre_m != b[i].centre_m || a[i].rotation != b[i].rotation) return false;
+    return true;
+  };
   for (std::size_t k = 0; k < x.size(); ++k) {
+    if (k > 0 && x[k] == x[k - 1] && path.ages_s[k] == path.ages_s[k - 1] && same_holds(holds[k], holds[k - 1])) {
+      out.x.push_back(out.x.back());
+      out.holds.push_back(holds[k]);
+      continue;
+    }
     out.model->set_age_s(path.ages_s[k]);
     rs::EquilibriumReport report;
     try {

@@ -120,5 +120,25 @@ TEST_CASE("clamps_moved_at_s is written, read back, and checked naming file and 
   }
 }
 
+TEST_CASE("a repeated scan of one pose keeps the moment its clamps stopped", "[twin][trial_effects]") {
+  testing_support::TempDir tmp("twin_stage_age_repeat");
+  // Stage 3 scans stage 2's pose again 300 s later: the same poses, the same clamps_moved_at_s
+  // (before stage 2's scan, which is allowed only for such a repeat).
+  Trial t = timed_trial();
+  t.stages[2].clamps_moved_at_s = 380.0;
+  const std::string dir = (tmp / "t").string();
+  write_trial(t, dir);
+  const Trial back = read_trial(dir);
+  CHECK(back.stages[2].clamps_moved_at_s == 380.0);
+  CHECK(stage_load_ages_s(back.stages)[2] == 320.0);
+  // The same moment with other poses: the clamps cannot have stopped before the last scan.
+  std::ifstream in(fs::path(dir) / "trial.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["stages"][2]["clamps"]["B"][2] = 1.21;
+  testing_support::write_file(fs::path(dir) / "trial.json", j.dump(2));
+  CHECK_THROWS_WITH(read_trial(dir), Catch::Contains("'stages[2].clamps_moved_at_s'") &&
+                                         Catch::Contains("earlier than the 400 s"));
+}
+
 }  // namespace
 }  // namespace twin
