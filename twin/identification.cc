@@ -120,7 +120,8 @@ void IdentificationProblem::forget_warm_starts() {
   for (TrialEvaluator* t : training_) t->clear_warm_starts();
 }
 
-void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result, IntervalKind kind) {
+void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result, IntervalKind kind,
+                          const VecX* discretisation_error_m) {
   const IdentificationProblem::Evaluation e =
       problem.evaluate(result.coordinates, Derivatives::kJacobian, /*max_weight=*/0.5);
   ++result.simulations;
@@ -171,12 +172,18 @@ void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& 
       robust = inverse * meat * inverse * (blocks / (blocks - 1.0));
     }
   }
+  // The shift the held discretisation error makes: refitting with it taken out of the residual
+  // moves the coordinates by (J^T J)^+ J^T h (Gauss-Newton, at the fit where J^T r is about 0).
+  VecX shift = VecX::Zero(P);
+  const bool widen = discretisation_error_m && discretisation_error_m->size() == e.residuals_m.size();
+  if (widen) shift = inverse * (e.coordinate_jacobian.transpose() * *discretisation_error_m);
   for (Eigen::Index j = 0; j < P; ++j) {
     ParameterEstimate& est = result.estimates[j];
     if (unbounded(j) > 1e-3) continue;
     est.block_robust = robust(j, j) > covariance(j, j);
     const double variance = std::max(covariance(j, j), robust(j, j));
-    const double half_width = 1.96 * std::sqrt(variance);  // in the search coordinate
+    const double half_width = 1.96 * std::sqrt(variance) + std::abs(shift(j));  // in the search coordinate
+    if (widen) est.discretisation_shift = from_search_coordinate(est.parameter, result.coordinates(j) + shift(j)) - est.value;
     const double y = result.coordinates(j);
     est.lower95 = from_search_coordinate(est.parameter, y - half_width);
     est.upper95 = from_search_coordinate(est.parameter, y + half_width);

@@ -86,6 +86,12 @@ struct ParameterEstimate {
   // further, so the interval reaches the parameter's physical bound on that side and the
   // parameter is not determined, however narrow the curvature of the misfit makes it look.
   bool at_search_edge = false;
+  // What the twin's own discretisation error (the part the residual holds,
+  // discretisation_check.h) moves the estimate by, to first order (SI units, signed): the
+  // Gauss-Newton step of the fit with that error taken out. A systematic error the Fisher or
+  // sandwich interval does not see; the interval is widened by it on both sides. 0 when not
+  // given.
+  double discretisation_shift = 0.0;
   static constexpr double kDeterminedRatio = 2.0;  // upper95 / value and value / lower95 below it
 };
 
@@ -177,7 +183,11 @@ IdentificationResult identify_gradient(IdentificationProblem& problem, const Gra
 // (ParameterEstimate::block_robust says when that is the sandwich's); kFisher is the Fisher
 // interval alone, which the diagnosis's significance tests were measured with.
 enum class IntervalKind { kFisher, kFisherOrBlocks };
+// With `discretisation_error_m` (the twin's discretisation error the residual holds, stacked like
+// the problem's residuals: DiscretisationCheck::error_pattern_m times pattern_in_residual), each
+// interval is also widened on both sides by the shift that error makes (discretisation_shift):
+// half width 1.96 sd + |shift| in the search coordinate. A vector of another length is ignored.
 void estimate_uncertainty(IdentificationProblem& problem, IdentificationResult& result,
-                          IntervalKind kind = IntervalKind::kFisher);
+                          IntervalKind kind = IntervalKind::kFisher, const VecX* discretisation_error_m = nullptr);
 
 }  // namespace twin

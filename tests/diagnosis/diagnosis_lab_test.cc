@@ -12,7 +12,9 @@
 #include "twin/diagnosis/diagnosis_report.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/residual_analysis.h"
+#include "twin/diagnosis/refit.h"
 #include "twin/discretisation_check.h"
+#include "twin/identification.h"
 #include "twin/stage_age.h"
 #include "tests/support/uniform_lab_config.h"
 
@@ -242,4 +244,46 @@ TEST_CASE("the residual holds the twin's discretisation error only when the shee
   CHECK(finer.pattern_in_residual > 0.5);
   CHECK(finer.error_in_residual_rms_m > 0.5 * finer.rms_m);
   CHECK(own.error_pattern_m.size() > 0);
+}
+
+// Intervals widened by the shift the twin's discretisation error makes (identification.h): on a
+// sheet made on a finer mesh, at the true material, every interval holds the plain one and is
+// wider by the shift on each side.
+TEST_CASE("the twin's discretisation error widens the intervals by the shift it makes", "[diagnosis][lab]") {
+  const sim_hw::LabTrial lab = sim_hw::make_lab_trial(testing_support::uniform_lab_config(11, 4 * kTriangles));
+  twin::TrialEvaluator evaluator(lab.trial, kTriangles, lab.truth);
+  twin::TwinMeshSpec mesh;
+  mesh.triangles = kTriangles;
+  const twin::DiscretisationCheck check = twin::check_discretisation({&evaluator}, mesh, lab.truth, dx::base_parameters());
+  REQUIRE(check.usable());
+  const twin::VecX held = std::max(0.0, check.pattern_in_residual) * check.error_pattern_m;
+  twin::IdentificationProblem problem({&evaluator}, lab.truth, dx::base_parameters());
+  twin::IdentificationResult plain;
+  plain.material = lab.truth;
+  plain.coordinates = problem.coordinates_of(lab.truth);
+  twin::IdentificationResult widened = plain;
+  twin::estimate_uncertainty(problem, plain);
+  twin::estimate_uncertainty(problem, widened, twin::IntervalKind::kFisher, &held);
+  REQUIRE(plain.estimates.size() == 3);
+  REQUIRE(widened.estimates.size() == 3);
+  double largest_shift = 0.0;
+  for (std::size_t j = 0; j < 3; ++j) {
+    const twin::ParameterEstimate &p = plain.estimates[j], &w = widened.estimates[j];
+    INFO(twin::parameter_name(p.parameter) << ": plain [" << p.lower95 << ", " << p.upper95 << "], widened ["
+                                           << w.lower95 << ", " << w.upper95 << "], shift " << w.discretisation_shift);
+    CHECK(p.discretisation_shift == 0.0);
+    CHECK(w.lower95 <= p.lower95);
+    CHECK(w.upper95 >= p.upper95);
+    // The shift lies inside the widened interval around the value.
+    CHECK(w.value + w.discretisation_shift >= w.lower95);
+    CHECK(w.value + w.discretisation_shift <= w.upper95);
+    largest_shift = std::max(largest_shift, std::abs(w.discretisation_shift / w.value));
+  }
+  CHECK(largest_shift > 1e-3);  // a 300-triangle twin of a sheet made on 1200 is biased
+  // A vector of another length is ignored.
+  twin::IdentificationResult ignored = plain;
+  const twin::VecX wrong = twin::VecX::Zero(3);
+  twin::estimate_uncertainty(problem, ignored, twin::IntervalKind::kFisher, &wrong);
+  CHECK(ignored.estimates[0].discretisation_shift == 0.0);
+  CHECK(ignored.estimates[0].upper95 == plain.estimates[0].upper95);
 }

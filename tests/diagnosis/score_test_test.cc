@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include <Eigen/QR>
@@ -360,7 +361,7 @@ TEST_CASE("the verdict judges against the noise and the twin's discretisation to
   std::vector<dx::Refit> refits(1);
   refits[0].effect = "orthotropic_stiffness";
   const auto base = [&](double rms_m) { return set_with(rms_m, n, mean_per_rms * rms_m); };
-  const auto decide_with = [&](double base_rms_m, double refit_rms_m, double d_m) {
+  const auto decide_with = [&](double base_rms_m, double refit_rms_m, std::optional<double> d_m) {
     const dx::SetScore train = base(base_rms_m), test = base(base_rms_m);
     refits[0].train = base(refit_rms_m);
     refits[0].test = base(refit_rms_m);
@@ -377,8 +378,10 @@ TEST_CASE("the verdict judges against the noise and the twin's discretisation to
   CHECK(within.budget_m == Approx(b));
   CHECK_THAT(within.summary, Catch::Contains("at this resolution"));
   CHECK_THAT(within.reasons.back(), Catch::Contains("no more than it could take of the twin's discretisation"));
-  // Without d the same numbers are an unexplained residual (the refit leaves 5x the noise).
-  CHECK(decide_with(b, 1.6e-3, 0.0).verdict == "unexplained");
+  // Not measured, the same numbers are an unexplained residual (the refit leaves 5x the noise);
+  // measured, with none of it held by the residual, they are beyond twice the noise: model form.
+  CHECK(decide_with(b, 1.6e-3, std::nullopt).verdict == "unexplained");
+  CHECK(decide_with(b, 1.6e-3, 0.0).verdict == "model_form");
 
   // Beyond twice the budget and nothing explains it: model form, naming no effect.
   const dx::Verdict beyond = decide_with(3.0 * b, 2.5 * b, d);
@@ -388,7 +391,7 @@ TEST_CASE("the verdict judges against the noise and the twin's discretisation to
   REQUIRE(beyond.closest);
   CHECK(*beyond.closest == "orthotropic_stiffness");
   // Without d measured there is no model-form verdict: the residual may be the resolution alone.
-  CHECK(decide_with(3.0 * b, 2.5 * b, 0.0).verdict == "unexplained");
+  CHECK(decide_with(3.0 * b, 2.5 * b, std::nullopt).verdict == "unexplained");
 
   // An effect that takes the base from 3 b to the budget removes far more than d could: named.
   const dx::Verdict named = decide_with(3.0 * b, b, d);

@@ -87,12 +87,10 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
   gradient.optimizer = o.optimizer;
   IdentificationResult base = identify_gradient(problem, gradient);
   if (base.coordinates.size() == 0) throw std::runtime_error("the base fit failed: " + base.stop_reason);
-  estimate_uncertainty(problem, base);
 
   // 2. Residuals of the base fit, the noise, the analysis.
   DiagnoseOutcome out;
   DiagnosisRecord record;
-  record.base = base;
   record.optimizer = optimizer_name(o.optimizer);
   record.train_before.fitted_parameters = static_cast<int>(base_parameters().size());
   out.base_train = score_set(train, base.material, base_parameters(), &record.train_before);
@@ -111,18 +109,21 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
                     1e3 * out.sigma_m, noise.method, noise.differences_used));
   }
   out.noise_floor_m = noise_floor_mean_m(out.sigma_m);
+  // The base fit's intervals, widened by the shift the discretisation error the residual holds
+  // makes (identification.h).
+  VecX held_pattern;
   if (o.discretisation_check) {
     out.discretisation = check_discretisation(train, mesh, base.material, base_parameters());
     say("diagnose: discretisation " + describe(out.discretisation, "at the base fit"));
+    if (out.discretisation.usable() && out.discretisation.error_pattern_m.size() > 0)
+      held_pattern = std::max(0.0, out.discretisation.pattern_in_residual) * out.discretisation.error_pattern_m;
   }
+  estimate_uncertainty(problem, base, IntervalKind::kFisher, held_pattern.size() > 0 ? &held_pattern : nullptr);
+  record.base = base;
 
   // 3. Score tests, refits of the best few, the verdict.
   say(fmt::format("diagnose: score tests of {} candidate(s) at the base fit", candidates.size()));
-  // What a candidate could absorb of the discretisation error the residual holds: the pattern
-  // scaled by how much of it the residual holds.
-  VecX held_pattern;
-  if (out.discretisation.usable() && out.discretisation.error_pattern_m.size() > 0)
-    held_pattern = std::max(0.0, out.discretisation.pattern_in_residual) * out.discretisation.error_pattern_m;
+  // What a candidate could absorb of the discretisation error the residual holds.
   record.scores =
       score_candidates(candidates, train, base.material, out.sigma_m, held_pattern.size() > 0 ? &held_pattern : nullptr);
   for (const CandidateScore& s : record.scores) {

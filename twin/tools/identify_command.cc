@@ -1,5 +1,6 @@
 #include "identify_command.h"
 
+#include <optional>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -80,10 +81,13 @@ std::vector<Row> score_rows(const std::string& set, TrialEvaluator& evaluator, c
   return rows;
 }
 
-// Which covariance set the interval (identification.h: estimate_uncertainty).
-const char* robust_note(const ParameterEstimate& e) {
+// Which covariance set the interval (identification.h: estimate_uncertainty), and how far the
+// twin's discretisation error widened it.
+std::string robust_note(const ParameterEstimate& e) {
   if (e.at_search_edge) return "  (the search stopped at the edge of its range: the interval runs to the bound)";
-  return e.block_robust ? "  (stage x quarter blocks: model error)" : "  (Fisher)";
+  const std::string kind = e.block_robust ? "stage x quarter blocks: model error" : "Fisher";
+  if (e.discretisation_shift == 0.0) return "  (" + kind + ")";
+  return fmt::format("  ({}, widened by the discretisation shift {:+.4g})", kind, e.discretisation_shift);
 }
 
 void print_estimates(const IdentificationResult& r) {
@@ -208,7 +212,16 @@ int run_identify(const IdentifyArguments& a) {
       fmt::print("\n{}: no result ({})\n", r.method, r.stop_reason);
       continue;
     }
-    estimate_uncertainty(problem, r, IntervalKind::kFisherOrBlocks);
+    // The twin's discretisation error at this resolution: reported beside the residual, and the
+    // part the residual holds widens the intervals by the shift it makes.
+    std::optional<DiscretisationCheck> check;
+    VecX held;
+    if (a.discretisation_check) {
+      check = check_discretisation(training, mesh, r.material, parameters);
+      if (check->usable() && check->error_pattern_m.size() > 0)
+        held = std::max(0.0, check->pattern_in_residual) * check->error_pattern_m;
+    }
+    estimate_uncertainty(problem, r, IntervalKind::kFisherOrBlocks, held.size() > 0 ? &held : nullptr);
     print_estimates(r);
     std::vector<Row> rows;
     const bool last = &r == &results.back();
@@ -234,11 +247,7 @@ int run_identify(const IdentifyArguments& a) {
     score("test", test);
     print_table(base.name.substr(0, base.name.find(' ')), r.method.substr(0, r.method.find(':')), rows);
     if (last) {
-      if (a.discretisation_check) {
-        // The twin's discretisation error at this resolution, beside the residual.
-        fmt::print("discretisation  {}\n",
-                   describe(check_discretisation(training, mesh, r.material, parameters), "at the fitted material"));
-      }
+      if (check) fmt::print("discretisation  {}\n", describe(*check, "at the fitted material"));
       write_material_file(a.out, r.material);
       fmt::print("\nwrote {} ({})\n", a.out, r.method);
       if (!a.residuals.empty()) fmt::print("wrote residual files under {}\n", a.residuals);
