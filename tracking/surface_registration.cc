@@ -195,9 +195,9 @@ RegistrationResult SurfaceRegistration::fit(const SurfaceMesh& prediction,
     // point within the gate, fewer pulling points than typical) that share holds the vertex
     // where it is instead: a term that vanishes at the fixed point, so the fixed points are
     // those of the fit with the term left out, and the matrix does not depend on which vertices
-    // are matched. (It did until 2026-11-25; on the fake cell's scene vertices at the edge of
-    // the seen sheet changed sets every cycle and the matrix was refactorised 2-3 times a fit,
-    // 4 of its 13 ms.)
+    // are matched. (A matrix that followed the matched set was refactorised 2-3 times a fit on
+    // the fake cell's scene, where vertices at the edge of the seen sheet change sets every
+    // cycle: 4 of a fit's 13 ms.)
     int matched = 0;
     for (int i = 0; i < n; ++i) {
       Vec3 b = eps * p[i];
