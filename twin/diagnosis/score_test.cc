@@ -14,12 +14,14 @@ namespace {
 
 struct Projection {
   double square = 0.0;   // |P_A r|^2
+  double other_square = 0.0;  // |P_A o|^2 of the optional second vector o
   int rank = 0;
   Eigen::VectorXd step;  // minimises |r + A step| (zero for columns that add no rank)
 };
 
-// With A's columns scaled to unit norm first (parameters of very different units alike).
-Projection project(const Eigen::MatrixXd& a, const Eigen::VectorXd& r) {
+// With A's columns scaled to unit norm first (parameters of very different units alike). With
+// `other`, its projection too, from the same factorisation.
+Projection project(const Eigen::MatrixXd& a, const Eigen::VectorXd& r, const Eigen::VectorXd* other = nullptr) {
   Projection p;
   p.step = Eigen::VectorXd::Zero(a.cols());
   if (a.cols() == 0) return p;
@@ -37,6 +39,7 @@ Projection project(const Eigen::MatrixXd& a, const Eigen::VectorXd& r) {
   p.rank = static_cast<int>(qr.rank());
   const Eigen::VectorXd qtr = qr.householderQ().transpose() * r;
   p.square = qtr.head(p.rank).squaredNorm();
+  if (other) p.other_square = (qr.householderQ().transpose() * *other).head(p.rank).squaredNorm();
   // Basic solution over the independent columns, the others zero.
   const Eigen::VectorXd z = qr.matrixR().topLeftCorner(p.rank, p.rank).triangularView<Eigen::Upper>().solve(qtr.head(p.rank));
   Eigen::VectorXd permuted = Eigen::VectorXd::Zero(a.cols());
@@ -52,21 +55,20 @@ ScoreStatistic score_statistic(const Eigen::VectorXd& residuals_m, const Eigen::
                                const Eigen::VectorXd* discretisation_change_m) {
   Eigen::MatrixXd joint(residuals_m.size(), base_jacobian.cols() + effect_jacobian.cols());
   joint << base_jacobian, effect_jacobian;
-  const Projection base = project(base_jacobian, residuals_m);
-  const Projection both = project(joint, residuals_m);
+  const Eigen::VectorXd* change =
+      discretisation_change_m && discretisation_change_m->size() == residuals_m.size() ? discretisation_change_m : nullptr;
+  const Projection base = project(base_jacobian, residuals_m, change);
+  const Projection both = project(joint, residuals_m, change);
   ScoreStatistic s;
   s.step = both.step;
   s.dof = both.rank - base.rank;
+  if (change) s.absorbable_m2 = std::max(0.0, both.other_square - base.other_square);
   if (s.dof <= 0) return s;
   const double gain = std::max(0.0, both.square - base.square);
   s.statistic = gain / (sigma_m * sigma_m);
   s.p_value = chi_square_upper_tail(s.statistic, s.dof);
   const double total = residuals_m.squaredNorm();
   s.explained_fraction = total > 0.0 ? gain / total : 0.0;
-  if (discretisation_change_m && discretisation_change_m->size() == residuals_m.size()) {
-    s.absorbable_m2 = std::max(0.0, project(joint, *discretisation_change_m).square -
-                                        project(base_jacobian, *discretisation_change_m).square);
-  }
   return s;
 }
 
