@@ -252,8 +252,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     stage.markers_file = stage.id + ".xyz";
     // A pose scanned again was not probed again: the repeat carries the first scan's probed poses,
     // so the trial shows that nothing moved.
-    const bool repeat = s > 0 && twin::same_clamp_poses(reference_stages[s], reference_stages[s - 1]) &&
-                        reference_stages[s].clamps_moved_at_s == reference_stages[s - 1].clamps_moved_at_s;
+    const bool repeat = s > 0 && twin::scans_same_pose(reference_stages[s - 1], reference_stages[s]);
     if (repeat) {
       stage.poses = trial.stages.back().poses;
     } else {

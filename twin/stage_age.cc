@@ -15,6 +15,11 @@ bool same_clamp_poses(const TrialStage& a, const TrialStage& b) {
   return true;
 }
 
+bool scans_same_pose(const TrialStage& previous, const TrialStage& stage) {
+  if (!same_clamp_poses(previous, stage)) return false;
+  return !stage.clamps_moved_at_s || previous.clamps_moved_at_s == stage.clamps_moved_at_s;
+}
+
 std::vector<double> stage_load_ages_s(const std::vector<TrialStage>& stages) {
   constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> ages;

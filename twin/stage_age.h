@@ -25,4 +25,8 @@ std::vector<double> stage_load_ages_s(const std::vector<TrialStage>& stages);
 // The clamp poses of two stages are the same (engaged flags and positions exactly equal).
 bool same_clamp_poses(const TrialStage& a, const TrialStage& b);
 
+// `stage` scans again the sheet `previous` scanned, nothing moved between: the same clamp poses,
+// and no new moment at which the clamps stopped (clamps_moved_at_s absent, or the previous one's).
+bool scans_same_pose(const TrialStage& previous, const TrialStage& stage);
+
 }  // namespace twin

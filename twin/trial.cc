@@ -327,9 +327,7 @@ void read_stages(const JsonField& f, const fs::path& directory, Trial& t) {
     }
     // The clamps left the previous stage's poses after it was scanned; unless this stage scans the
     // same pose again (the same poses and the same moment the clamps stopped: a repeated scan).
-    const bool repeated_scan = !t.stages.empty() && stage.clamps_moved_at_s &&
-                               t.stages.back().clamps_moved_at_s == stage.clamps_moved_at_s &&
-                               same_clamp_poses(t.stages.back(), stage);
+    const bool repeated_scan = !t.stages.empty() && stage.clamps_moved_at_s && scans_same_pose(t.stages.back(), stage);
     if (stage.clamps_moved_at_s && last_time_s && *stage.clamps_moved_at_s < *last_time_s && !repeated_scan) {
       f[i]["clamps_moved_at_s"].fail(fmt::format("is {} s, earlier than the {} s at which the stage before it "
                                                  "was scanned", *stage.clamps_moved_at_s, *last_time_s));

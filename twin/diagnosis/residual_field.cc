@@ -34,13 +34,6 @@ double clamp_distance(const Trial& trial, int stage, const Vec2& uv) {
   return best;
 }
 
-// Whether `stage` scans the sheet `previous` scanned, nothing moved between: the same clamp
-// poses, and no new moment at which the clamps stopped.
-bool same_pose_scan(const TrialStage& previous, const TrialStage& stage) {
-  if (!same_clamp_poses(previous, stage)) return false;
-  return !stage.clamps_moved_at_s || previous.clamps_moved_at_s == stage.clamps_moved_at_s;
-}
-
 }  // namespace
 
 FieldTrial field_trial_on(const SheetMesh& mesh, const std::string& name) {
@@ -155,7 +148,7 @@ void add_trial_residuals(ResidualField& field, const TrialEvaluator& evaluator, 
   for (std::size_t s = 0; s < trial.stages.size(); ++s) {
     const TrialStage& stage = trial.stages[s];
     const StageFit& sf = fit.stages[s];
-    if (s == 0 || !same_pose_scan(trial.stages[s - 1], stage)) ++field.pose_groups;
+    if (s == 0 || !scans_same_pose(trial.stages[s - 1], stage)) ++field.pose_groups;
     if (!stage.observed.has_markers()) continue;
     if (!points) points.emplace(mesh, trial.marker_uv_m);
     const std::vector<Vec3> normals = vertex_normals(mesh, sf.x);
