@@ -1,6 +1,6 @@
 #include "twin/membrane_energy.h"
 
-#include <Eigen/Eigenvalues>
+#include "twin/membrane_point.h"
 
 namespace twin {
 
@@ -41,28 +41,10 @@ Vec3 membrane_strain(const MembraneElement& e, const Vec9& xe, StrainJacobian* j
 
 double membrane_energy(const MembraneElement& e, const Mat3& c, const Vec9& xe, Vec9* grad,
                        Mat9* hess, HessianMode mode) {
-  StrainJacobian j;
-  const Vec3 eps = membrane_strain(e, xe, (grad || hess) ? &j : nullptr);
-  const Vec3 sigma = c * eps;  // N/m
-  const double a = e.rest_area_m2;
-  if (grad) *grad = a * j.transpose() * sigma;
-  if (hess) {
-    *hess = a * j.transpose() * c * j;
-    Mat2 stress;
-    stress << sigma(0), sigma(2), sigma(2), sigma(1);
-    if (mode == HessianMode::kProjected) {
-      // Compressive principal stress gives negative geometric stiffness (buckling); dropping it
-      // keeps the element Hessian positive semi-definite.
-      Eigen::SelfAdjointEigenSolver<Mat2> eig(stress);
-      const Vec2 clamped = eig.eigenvalues().cwiseMax(0.0);
-      stress = eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
-    }
-    const Mat3 geometric = a * e.r * stress * e.r.transpose();  // (3 x 3) over vertices
-    for (int k = 0; k < 3; ++k) {
-      for (int l = 0; l < 3; ++l) hess->block<3, 3>(3 * k, 3 * l).diagonal().array() += geometric(k, l);
-    }
-  }
-  return 0.5 * a * eps.dot(sigma);
+  if (grad) grad->setZero();
+  if (hess) hess->setZero();
+  const Eigen::Matrix<double, 3, 2>& r = e.r;
+  return add_membrane_point_energy<3>(r, e.rest_area_m2, c, xe, grad, hess, mode);
 }
 
 }  // namespace twin

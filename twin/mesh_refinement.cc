@@ -30,19 +30,11 @@ double point_triangle_distance(const Vec2& p, const Vec2& a, const Vec2& b, cons
                    point_segment_distance(p, c, a)});
 }
 
-SheetMesh refine_once(const SheetMesh& mesh, const std::vector<Vec2>& points, double radius_m) {
+// `mesh` with the triangles marked red split into four (and the closure described in the header).
+// A red triangle t's four are appended in the order (a, ab, ca), (ab, b, bc), (ca, bc, c),
+// (ab, bc, ca), so that with every triangle red, triangle 4t + 3 holds t's three midpoints.
+SheetMesh refine_marked(const SheetMesh& mesh, std::vector<char> red) {
   const int triangle_count = mesh.triangle_count();
-  std::vector<char> red(triangle_count, 0);
-  for (int t = 0; t < triangle_count; ++t) {
-    const auto& tri = mesh.triangles[t];
-    for (const Vec2& p : points) {
-      if (point_triangle_distance(p, mesh.rest_uv[tri[0]], mesh.rest_uv[tri[1]], mesh.rest_uv[tri[2]]) <=
-          radius_m) {
-        red[t] = 1;
-        break;
-      }
-    }
-  }
   // Closure: a triangle with two or more split edges is split red as well, which may split
   // further edges; every pass only adds red triangles, so it ends.
   std::map<Edge, int> midpoint;  // split edge -> new vertex (assigned below)
@@ -102,7 +94,35 @@ SheetMesh refine_once(const SheetMesh& mesh, const std::vector<Vec2>& points, do
   return out;
 }
 
+SheetMesh refine_once(const SheetMesh& mesh, const std::vector<Vec2>& points, double radius_m) {
+  std::vector<char> red(mesh.triangle_count(), 0);
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (const Vec2& p : points) {
+      if (point_triangle_distance(p, mesh.rest_uv[tri[0]], mesh.rest_uv[tri[1]], mesh.rest_uv[tri[2]]) <=
+          radius_m) {
+        red[t] = 1;
+        break;
+      }
+    }
+  }
+  return refine_marked(mesh, std::move(red));
+}
+
 }  // namespace
+
+SheetMesh refine_uniformly(const SheetMesh& mesh) {
+  validate_sheet_mesh(mesh);
+  SheetMesh out = refine_marked(mesh, std::vector<char>(mesh.triangle_count(), 1));
+  out.quadratic_patches.reserve(mesh.triangles.size());
+  for (int t = 0; t < mesh.triangle_count(); ++t) {
+    const auto& corners = mesh.triangles[t];
+    const auto& midpoints = out.triangles[4 * static_cast<std::size_t>(t) + 3];
+    out.quadratic_patches.push_back({corners[0], corners[1], corners[2], midpoints[0], midpoints[1], midpoints[2]});
+  }
+  validate_sheet_mesh(out);
+  return out;
+}
 
 SheetMesh refine_near_points(const SheetMesh& mesh, const std::vector<Vec2>& points_uv_m,
                              const std::vector<double>& radii_m) {

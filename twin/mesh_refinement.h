@@ -19,6 +19,11 @@
 
 namespace twin {
 
+// Every triangle split into four by its edge midpoints; the result's quadratic_patches list each
+// original triangle with its midpoints (the quadratic membrane's elements). Vertices of `mesh`
+// keep their indices. Throws std::invalid_argument for an invalid mesh.
+SheetMesh refine_uniformly(const SheetMesh& mesh);
+
 // The mesh with one level per radius (m, material coordinates), applied in order. Vertices of
 // `mesh` keep their indices; new vertices follow. Throws std::invalid_argument on a negative or
 // non-finite radius.

@@ -162,6 +162,14 @@ void validate_sheet_mesh(const SheetMesh& mesh) {
                     : " is degenerate (zero area)"));
     }
   }
+  for (std::size_t p = 0; p < mesh.quadratic_patches.size(); ++p) {
+    for (int v : mesh.quadratic_patches[p]) {
+      if (v < 0 || v >= n) {
+        throw std::invalid_argument("sheet mesh quadratic patch " + std::to_string(p) + " refers to vertex " +
+                                    std::to_string(v) + " of " + std::to_string(n));
+      }
+    }
+  }
   for (int i = 0; i < n; ++i) {
     if (!used[i]) {
       throw std::invalid_argument("sheet mesh vertex " + std::to_string(i) +

@@ -14,6 +14,11 @@ namespace twin {
 struct SheetMesh {
   std::vector<Vec2> rest_uv;                   // #V material coordinates (m)
   std::vector<std::array<int, 3>> triangles;  // #F vertex indices, CCW in (u, v)
+  // When the mesh is a coarser one refined uniformly (refine_uniformly, mesh_refinement.h): per
+  // coarse triangle its corners a, b, c and the midpoints of ab, bc, ca (the six nodes of the
+  // quadratic membrane, quadratic_membrane.h). Empty otherwise; any other change of the mesh
+  // drops them.
+  std::vector<std::array<int, 6>> quadratic_patches;
 
   int vertex_count() const { return static_cast<int>(rest_uv.size()); }
   int triangle_count() const { return static_cast<int>(triangles.size()); }

@@ -36,6 +36,9 @@ ShellModel::ShellModel(SheetMesh mesh, const Material& material, const Vec3& gra
       load_age_s_(std::numeric_limits<double>::quiet_NaN()),
       masses_(lumped_vertex_masses(mesh_, material.surface_density_kg_m2)),
       membrane_(mesh_, material.membrane_stiffness()),
+      quadratic_membrane_(mesh_.quadratic_patches.empty()
+                              ? nullptr
+                              : std::make_unique<QuadraticMembraneTerm>(mesh_, material.membrane_stiffness())),
       // With the plate model the hinge term is not part of the energy: any valid rigidity will do.
       bending_(mesh_, material.bending_model == Material::BendingModel::kPlate ? 1e-3 : material.bending_rigidity_u_Nm,
                material.bending_model == Material::BendingModel::kPlate ? 1e-3 : material.bending_rigidity_v_Nm),
@@ -73,6 +76,7 @@ void ShellModel::update_stiffness(const Material& material, double age_s) {
     bending_.set_rigidity(factor * material.bending_rigidity_u_Nm, factor * material.bending_rigidity_v_Nm);
   }
   membrane_.set_stiffness(factor * material.membrane_stiffness());
+  if (quadratic_membrane_) quadratic_membrane_->set_stiffness(factor * material.membrane_stiffness());
 }
 
 void ShellModel::update_masses() {

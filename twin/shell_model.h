@@ -19,6 +19,11 @@
 //     to act on.
 //   - clamp slip: likewise (set_clamp_slips). With it the clamps' vertices are no longer held
 //     fixed: springs (clamp_slip_term.h) hold them, so hold_clamps frees them.
+//
+// The membrane: linear triangles (membrane_term.h), or quadratic ones (quadratic_membrane.h)
+// when the mesh was refined uniformly from a coarser one and so carries quadratic patches; the
+// mesh decides (trial.h: TwinMeshSpec::quadratic_membrane). The strain-rate viscosity of
+// dynamics stays on the linear triangles either way.
 
 #include <memory>
 
@@ -31,6 +36,7 @@
 #include "twin/material_point.h"
 #include "twin/membrane_term.h"
 #include "twin/plate_bending_term.h"
+#include "twin/quadratic_membrane.h"
 #include "twin/sheet_mesh.h"
 
 namespace twin {
@@ -90,7 +96,13 @@ class ShellModel {
   const std::vector<double>& vertex_masses_kg() const { return masses_; }
   double total_mass_kg() const;
 
+  // The membrane on the mesh's (linear) triangles, whichever membrane the energy uses: its
+  // elements are those the strain-rate viscosity acts on.
   const MembraneTerm& membrane() const { return membrane_; }
+  // The membrane term the energy uses (quadratic when the mesh has quadratic patches).
+  const EnergyTerm& membrane_energy() const {
+    return quadratic_membrane_ ? static_cast<const EnergyTerm&>(*quadratic_membrane_) : membrane_;
+  }
   // The hinge bending term; the energy's only with the hinge bending model.
   const BendingTerm& bending() const { return bending_; }
   BendingTerm& bending() { return bending_; }
@@ -103,7 +115,7 @@ class ShellModel {
   const GravityTerm& gravity() const { return gravity_; }
   // The potential-energy terms, in a fixed order.
   std::vector<const EnergyTerm*> potential_terms() const {
-    return {&membrane_, &bending_energy(), &gravity_, &grip_, &slip_, &slip_.coupling()};
+    return {&membrane_energy(), &bending_energy(), &gravity_, &grip_, &slip_, &slip_.coupling()};
   }
 
  private:
@@ -118,6 +130,7 @@ class ShellModel {
   double load_age_s_;
   std::vector<double> masses_;
   MembraneTerm membrane_;
+  std::unique_ptr<QuadraticMembraneTerm> quadratic_membrane_;
   BendingTerm bending_;
   std::unique_ptr<PlateBendingTerm> plate_;
   GravityTerm gravity_;

@@ -415,7 +415,8 @@ SheetMesh refine_near_clamps(const SheetMesh& mesh, const std::vector<ClampSpec>
   return refine_near_points(mesh, points, radii_m);
 }
 
-std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpec& clamp) {
+std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpec& clamp,
+                                           int uniform_refinements_after) {
   // Edges of at most 0.4 r: the disk then holds some 20-30 vertices.
   constexpr double kEdgesPerGripRadius = 2.5;
   constexpr int kMaxLevels = 8;  // a 256-fold finer edge: far beyond any real jaw
@@ -429,6 +430,7 @@ std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpe
   for (int k = 0; k < 3; ++k) {
     edge_m += (mesh.rest_uv[host->vertices[k]] - mesh.rest_uv[host->vertices[(k + 1) % 3]]).norm() / 3.0;
   }
+  edge_m = std::ldexp(edge_m, -std::max(0, uniform_refinements_after));
   int levels = 0;
   for (double e = edge_m; e > clamp.grip_radius_m / kEdgesPerGripRadius && levels < kMaxLevels; e /= 2.0) ++levels;
   std::vector<double> radii_m(static_cast<std::size_t>(levels));
@@ -436,11 +438,12 @@ std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpe
   return radii_m;
 }
 
-SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps) {
+SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps,
+                                 int uniform_refinements_after) {
   std::vector<std::vector<double>> radii_m;
   std::size_t levels = 0;
   for (const ClampSpec& c : clamps) {
-    radii_m.push_back(jaw_refinement_radii_m(mesh, c));
+    radii_m.push_back(jaw_refinement_radii_m(mesh, c, uniform_refinements_after));
     levels = std::max(levels, radii_m.back().size());
   }
   // Level by level, each clamp's finest level last (clamps needing fewer levels start later).
@@ -456,14 +459,18 @@ SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampS
 }
 
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec) {
-  const SheetMesh base = trial_sheet_mesh(trial, spec.triangles);
+  const int uniform = spec.quadratic_membrane ? 1 : 0;
+  const SheetMesh base = trial_sheet_mesh(trial, uniform ? std::max(2, spec.triangles / 4) : spec.triangles);
+  SheetMesh refined;
   if (spec.resolve_jaws) {
     if (!spec.clamp_refinement_radii_m.empty()) {
       throw std::invalid_argument("twin mesh: give clamp refinement radii or resolve the jaws, not both");
     }
-    return refine_to_resolve_jaws(base, trial.clamps);
+    refined = refine_to_resolve_jaws(base, trial.clamps, uniform);
+  } else {
+    refined = refine_near_clamps(base, trial.clamps, spec.clamp_refinement_radii_m);
   }
-  return refine_near_clamps(base, trial.clamps, spec.clamp_refinement_radii_m);
+  return uniform ? refine_uniformly(refined) : refined;
 }
 
 }  // namespace twin

@@ -113,11 +113,17 @@ SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles);
 //
 // resolve_jaws: instead of given radii, refine near each clamp until its jaws are resolved
 // (jaw_refinement_radii_m); clamp_refinement_radii_m must then be empty.
+//
+// quadratic_membrane: the mesh above is made with a quarter of the triangles (a sheet given as a
+// mesh file: as given), refined near the clamps so that the final edges resolve the jaws, then
+// refined uniformly once (refine_uniformly): the twin has about `triangles` triangles, and its
+// membrane is quadratic on the coarser ones (shell_model.h). The path mesh stays linear.
 struct TwinMeshSpec {
   int triangles = 1500;
   std::vector<double> clamp_refinement_radii_m;
   int path_triangles = 300;
   bool resolve_jaws = false;
+  bool quadratic_membrane = false;
 };
 SheetMesh trial_sheet_mesh(const Trial& trial, const TwinMeshSpec& spec);
 
@@ -136,10 +142,14 @@ SheetMesh refine_near_clamps(const SheetMesh& mesh, const std::vector<ClampSpec>
 // degrees.) None for a pin (r = 0) or where the mesh's edges (mean of the host triangle's)
 // are already fine enough.
 // Throws std::invalid_argument when the clamp's material point is off the sheet.
-std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpec& clamp);
+// uniform_refinements_after: how many times the result will be refined uniformly after (each
+// halves the edges), counted in the edges the jaws must be resolved by.
+std::vector<double> jaw_refinement_radii_m(const SheetMesh& mesh, const ClampSpec& clamp,
+                                           int uniform_refinements_after = 0);
 
 // `mesh` refined near every clamp by its own jaw_refinement_radii_m.
-SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps);
+SheetMesh refine_to_resolve_jaws(const SheetMesh& mesh, const std::vector<ClampSpec>& clamps,
+                                 int uniform_refinements_after = 0);
 
 // Writes trial.json and every stage's marker / cloud files into `directory` (created if
 // needed; files replaced atomically). File names are the stages' markers_file / cloud_file,

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "twin/implicit_stepper.h"
+#include "twin/mesh_refinement.h"
 #include "twin/viscosity_term.h"
 
 namespace twin {
@@ -59,6 +60,29 @@ TEST_CASE("the plate bending model replaces the hinges in the energy and keeps i
   hinge.bending_model = Material::BendingModel::kHinge;
   CHECK_THROWS_WITH(model.set_material(hinge), Catch::Contains("bending model"));
   CHECK(model.material().bending_model == Material::BendingModel::kPlate);
+}
+
+TEST_CASE("a uniformly refined mesh gets the quadratic membrane, which follows the material",
+          "[twin][model]") {
+  Material material;
+  ShellModel linear(make_rectangular_sheet(0.3, 0.2, 0.03), material);
+  ShellModel quadratic(refine_uniformly(make_rectangular_sheet(0.3, 0.2, 0.06)), material);
+  CHECK(linear.membrane_energy().name() == "membrane");
+  CHECK(quadratic.membrane_energy().name() == "membrane (quadratic)");
+  CHECK(quadratic.potential_terms().front() == &quadratic.membrane_energy());
+  // Stretched 2 % along u: both give the exact energy of a uniform strain; doubling the
+  // stiffnesses doubles it.
+  VecX x = place_flat(quadratic.mesh(), SheetPlacement{Vec3(0, 0, 1.0), Mat3::Identity()});
+  for (int i = 0; i < quadratic.vertex_count(); ++i) x(3 * i) *= 1.02;
+  const double e1 = quadratic.membrane_energy().evaluate(x, nullptr, nullptr, HessianMode::kExact);
+  // The linear triangles of the same mesh (what the viscosity acts on) agree.
+  CHECK(e1 == Approx(quadratic.membrane().evaluate(x, nullptr, nullptr, HessianMode::kExact)).epsilon(1e-12));
+  Material stiffer = material;
+  stiffer.tensile_stiffness_u_N_m *= 2.0;
+  stiffer.tensile_stiffness_v_N_m *= 2.0;
+  stiffer.shear_stiffness_N_m *= 2.0;
+  quadratic.set_material(stiffer);
+  CHECK(quadratic.membrane_energy().evaluate(x, nullptr, nullptr, HessianMode::kExact) == Approx(2.0 * e1));
 }
 
 TEST_CASE("viscosity switched off leaves no damping behind", "[twin][model]") {

@@ -94,6 +94,35 @@ TEST_CASE("a twin mesh that resolves the jaws has edges of at most 0.4 grip radi
   CHECK_THROWS_WITH(trial_sheet_mesh(trial, spec), Catch::Contains("not both"));
 }
 
+TEST_CASE("a twin mesh for the quadratic membrane is a quarter as many triangles refined uniformly",
+          "[twin][trial]") {
+  const Trial trial = clamped_rectangle();
+  TwinMeshSpec linear{2000, {}};
+  linear.resolve_jaws = true;
+  TwinMeshSpec quadratic = linear;
+  quadratic.quadratic_membrane = true;
+  const SheetMesh lin = trial_sheet_mesh(trial, linear);
+  const SheetMesh quad = trial_sheet_mesh(trial, quadratic);
+  CHECK(lin.quadratic_patches.empty());
+  REQUIRE(quad.quadratic_patches.size() * 4 == quad.triangles.size());
+  CHECK(quad.total_rest_area() == Approx(lin.total_rest_area()).epsilon(1e-12));
+  // About as many vertices away from the jaws, and the jaws resolved as finely (edges of the
+  // final mesh at most 0.4 grip radii there, not those of the coarse one).
+  CHECK(quad.triangle_count() > 0.7 * lin.triangle_count());
+  CHECK(quad.triangle_count() < 1.5 * lin.triangle_count());
+  const ClampSpec& jaws = trial.clamps[0];
+  double longest_m = 0.0;
+  for (const auto& t : quad.triangles) {
+    bool touches = false;
+    for (int v : t) touches |= (quad.rest_uv[v] - jaws.material_point_m).norm() < jaws.grip_radius_m;
+    for (int k = 0; touches && k < 3; ++k) {
+      longest_m = std::max(longest_m, (quad.rest_uv[t[k]] - quad.rest_uv[t[(k + 1) % 3]]).norm());
+    }
+  }
+  CHECK(longest_m <= 0.5 * jaws.grip_radius_m);
+  CHECK(longest_m > 0.1 * jaws.grip_radius_m);
+}
+
 TEST_CASE("the clamp refinement option reads jaws, none or radii and names itself in errors", "[twin][trial]") {
   CHECK(parse_clamp_refinement("jaws").resolve_jaws);
   CHECK(parse_clamp_refinement("jaws").radii_m.empty());

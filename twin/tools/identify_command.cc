@@ -128,6 +128,10 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
                   "hinge (the paper's, Eq. 10) or plate (a curvature tensor per triangle with the material's "
                   "D12 and D66); default: the start material's, hinge for the paper's")
       ->check(CLI::IsMember({"hinge", "plate"}));
+  cmd->add_option("--membrane-model", a.membrane_model,
+                  "linear (constant-strain triangles, default) or quadratic (six-node triangles on a mesh of a "
+                  "quarter of the triangles refined uniformly once: folds without membrane locking)")
+      ->check(CLI::IsMember({"linear", "quadratic"}));
   cmd->add_option("--residuals", a.residuals, "directory for per-marker residual files (CSV, PLY)");
   cmd->add_option("--triangles", a.triangles, "triangles of the twin's sheet mesh")->check(CLI::Range(50, 200000));
   cmd->add_option("--clamp-refinement", a.clamp_refinement,
@@ -151,7 +155,8 @@ CLI::App* add_identify_command(CLI::App& app, IdentifyArguments& a) {
 int run_identify(const IdentifyArguments& a) {
   const std::vector<MaterialParameter> parameters = parse_parameter_list(a.parameters);
   const ClampRefinement refinement = parse_clamp_refinement(a.clamp_refinement);
-  const TwinMeshSpec mesh{a.triangles, refinement.radii_m, a.path_triangles, refinement.resolve_jaws};
+  const TwinMeshSpec mesh{a.triangles, refinement.radii_m, a.path_triangles, refinement.resolve_jaws,
+                          a.membrane_model == "quadratic"};
   std::vector<Trial> train_trials, test_trials;
   for (const std::string& d : a.train) train_trials.push_back(read_trial(d));
   for (const std::string& d : a.test) test_trials.push_back(read_trial(d));
@@ -164,9 +169,12 @@ int run_identify(const IdentifyArguments& a) {
   for (auto& t : train) training.push_back(t.get());
 
   const TrialEvaluator& first = *train.front();
-  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}{}\n",
+  fmt::print("identify  {} of {} from {} training and {} test trial(s); twin mesh {} triangles, {} vertices{}{}{}\n",
              a.parameters, first.trial().material_name, train.size(), test.size(),
              first.model().mesh().triangle_count(), first.model().vertex_count(),
+             mesh.quadratic_membrane
+                 ? fmt::format(", quadratic membrane on {} triangles", first.model().mesh().quadratic_patches.size())
+                 : std::string(),
              mesh.resolve_jaws ? std::string(" (refined near the clamps until their jaws are resolved)")
              : mesh.clamp_refinement_radii_m.empty()
                  ? std::string()

@@ -18,6 +18,7 @@ struct IdentifyArguments {
   std::string parameters = "tensile_N_m,shear_N_m,bending_Nm";
   std::string start;               // optional material file: start values and fixed properties
   std::string bending_model;       // hinge | plate; empty: the start material's
+  std::string membrane_model = "linear";  // linear | quadratic (trial.h: TwinMeshSpec)
   std::string residuals;           // optional directory for per-marker residual files
   int triangles = 1500;
   // --clamp-refinement (clamp_refinement_option.h): "jaws" refines near each clamp until its
