@@ -216,8 +216,15 @@ int run_identify(const IdentifyArguments& a) {
   }
   int status = 2;
   for (IdentificationResult& r : results) {
-    if (r.coordinates.size() == 0) {
+    // A search none of whose simulations succeeded has only its start to show: nothing to
+    // report or write.
+    if (r.coordinates.size() == 0 || !std::isfinite(r.objective)) {
       fmt::print("\n{}: no result ({})\n", r.method, r.stop_reason);
+      if (r.coordinates.size() == 0) continue;
+      for (auto& evaluator : train) {  // why: the first failure of each training trial
+        const TrialFit fit = evaluator->evaluate(r.material, parameters);
+        if (!fit.usable()) fmt::print("  train {}: simulation failed: {}\n", evaluator->trial().directory, fit.failure);
+      }
       continue;
     }
     // The twin's discretisation error at this resolution: reported beside the residual, and the
