@@ -1,5 +1,6 @@
 #include "twin/quadratic_membrane.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
