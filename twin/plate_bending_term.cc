@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "twin/dihedral_angle.h"
 #include "twin/hinge_bending.h"
@@ -117,14 +117,22 @@ void PlateBendingTerm::set_rigidity(const Mat3& rigidity_Nm) {
     PlateElement& e = elements_[i];
     const int m = e.hinge_count;
     const Eigen::MatrixXd a = angle_per_curvature_[i].topRows(m);
-    const Eigen::MatrixXd s = a * compliance * a.transpose();  // m x m, SPD
-    const Eigen::LLT<Eigen::MatrixXd> llt(s);
-    if (llt.info() != Eigen::Success) {
-      throw std::invalid_argument("plate bending: triangle " + std::to_string(i) +
-                                  " has hinges whose angles do not determine a curvature "
-                                  "(degenerate rest triangle)");
+    const Eigen::MatrixXd s = a * compliance * a.transpose();  // m x m, symmetric positive semi-definite
+    // The pseudo-inverse, not the inverse: on some refined meshes two hinges of a triangle
+    // respond to curvature in proportion (their rows of A are parallel), and s is singular
+    // to rounding. An inverse then either fails or, where the rounding lets it pass, makes
+    // the combination of angles no curvature explains enormously stiff. With the
+    // pseudo-inverse that combination carries no energy here (each hinge also belongs to its
+    // neighbour's element, which does see it).
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(s);
+    const Eigen::VectorXd& lambda = eigen.eigenvalues();
+    const double cutoff = 1e-10 * lambda.cwiseAbs().maxCoeff();
+    Eigen::VectorXd inverse_lambda = Eigen::VectorXd::Zero(m);
+    for (int k = 0; k < m; ++k) {
+      if (lambda(k) > cutoff) inverse_lambda(k) = 1.0 / lambda(k);
     }
-    const Eigen::MatrixXd s_inv = llt.solve(Eigen::MatrixXd::Identity(m, m));
+    const Eigen::MatrixXd s_inv =
+        eigen.eigenvectors() * inverse_lambda.asDiagonal() * eigen.eigenvectors().transpose();
     const Eigen::MatrixXd curvature = compliance * a.transpose() * s_inv;  // 3 x m
     e.q.setZero();
     e.q.topLeftCorner(m, m) = area_m2_[i] * s_inv;

@@ -16,7 +16,7 @@ namespace twin {
 class PlateBendingTerm final : public ElementTerm<6> {
  public:
   // `rigidity_Nm` is D on (K_uu, K_vv, 2 K_uv); throws std::invalid_argument unless it is
-  // symmetric positive definite with D13 = D23 = 0, or for a degenerate mesh.
+  // symmetric positive definite with D13 = D23 = 0, or for a degenerate rest hinge.
   PlateBendingTerm(const SheetMesh& mesh, const Mat3& rigidity_Nm);
   std::string_view name() const override { return "plate bending"; }
   void set_rigidity(const Mat3& rigidity_Nm);

@@ -157,6 +157,52 @@ TEST_CASE("a sheet curved at rest stores nothing in its rest shape; stiffening i
   }
 }
 
+// A triangle and its three neighbours as they came out of the jaw refinement of a lab trial's
+// twin (composite, 1500 triangles, quadratic membrane): the hinges across two of its edges
+// respond to curvature in exact proportion, so no curvature tensor is determined by their
+// angles apart. The element used to throw ("do not determine a curvature") or, depending on
+// the rigidity's rounding, to invert a singular matrix.
+SheetMesh proportional_hinges_patch() {
+  SheetMesh mesh;
+  mesh.rest_uv = {{1.1047098214285713, 0.15468749999999998}, {1.1020982142857141, 0.15937499999999999},
+                  {1.0864285714285713, 0.14999999999999999}, {1.0968749999999998, 0.16875000000000001},
+                  {1.1073214285714283, 0.14999999999999999}, {1.1203794642857141, 0.1640625}};
+  mesh.triangles = {{0, 1, 2}, {2, 1, 3}, {0, 2, 4}, {1, 0, 5}};
+  return mesh;
+}
+
+TEST_CASE("a triangle whose hinges do not determine a curvature bends with the pseudo-inverse",
+          "[twin][energy]") {
+  const SheetMesh mesh = proportional_hinges_patch();
+  for (const double bending_Nm : {8e-4, 1e-3, 3.7e-4}) {
+    INFO("D " << bending_Nm << " N*m");
+    const Mat3 d = plate_rigidity_matrix(bending_Nm, bending_Nm, 0.3 * bending_Nm, 0.35 * bending_Nm);
+    PlateBendingTerm term(mesh, d);
+    REQUIRE(term.hinge_count(0) == 3);
+    // A cylinder: finite energy, no more than the continuum's over the whole patch (the
+    // undetermined combination of angles carries none).
+    const double c = 2.0;  // 1/m
+    for (const double angle : {0.0, 0.7, M_PI / 2}) {
+      const Vec3 k(c * std::cos(angle) * std::cos(angle), c * std::sin(angle) * std::sin(angle),
+                   c * std::cos(angle) * std::sin(angle));
+      const VecX x = lifted(mesh, k);
+      const double energy = term.evaluate(x, nullptr, nullptr, HessianMode::kExact);
+      const Vec3 kappa(k(0), k(1), 2.0 * k(2));
+      const double continuum = 0.5 * kappa.dot(d * kappa) * mesh.total_rest_area();
+      CHECK(std::isfinite(energy));
+      CHECK(energy > 0.0);
+      CHECK(energy < 1.5 * continuum);
+      CHECK(term.curvature(x, 0).allFinite());
+    }
+    std::mt19937 rng(5);
+    const VecX x = testing::random_deformed(mesh.rest_uv, 0.002, 0.2, rng);
+    const auto errors = testing::term_derivative_errors(term, x, 1e-8);
+    INFO(errors.report());
+    CHECK(errors.gradient < 1e-5);
+    CHECK(errors.hessian < 1e-5);
+  }
+}
+
 TEST_CASE("plate bending refuses a rigidity that is not positive definite", "[twin][energy]") {
   const SheetMesh mesh = make_rectangular_sheet(0.1, 0.1, 0.03);
   CHECK_THROWS_WITH(PlateBendingTerm(mesh, plate_rigidity_matrix(1e-3, 1e-3, 2e-3, 1e-4)),
