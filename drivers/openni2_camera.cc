@@ -44,7 +44,7 @@ ParsedUri parse_uri(const std::string& uri) {
 // - Debian's DummyDevice stops a stream by setting a flag its thread reads after each frame's
 //   sleep (33 ms at 30 fps), without joining the thread, and destroy() frees the stream under it:
 //   the Dummy device's openni2 test crashed (SIGSEGV in libDummyDevice) in 3 of 30 runs of the
-//   openni2 tests at ctest -j4, 2026-11-27. Three frame periods are waited for every device,
+//   openni2 tests at ctest -j4. Three frame periods are waited for every device,
 //   except when a lost device is reopened: its streams died with it, and a cyclic reader must
 //   not block there.
 constexpr std::chrono::milliseconds kStopSettle{100};

@@ -1,7 +1,7 @@
 #pragma once
 // Blind trial sets (issue 6): three scanned trials of one specimen with exactly one hidden
 // effect (sim_hw/hidden_effect.h), made by the scanner lab from a seed:
-//   TRIALS/train_1, TRIALS/train_2, TRIALS/test_1   trial directories (README "Trial directory"),
+//   TRIALS/train_1, TRIALS/train_2, TRIALS/test_1   trial directories (docs/file_formats.md, "Trial directory"),
 //                                                   each with its own clamp protocol and noise
 //   TRUTH/hidden_effect.json                        {"effect", "description", "parameters",
 //                                                    "trials", "forced", "seed", "specimen",

@@ -64,8 +64,8 @@ struct RegistrationOptions {
   int cloud_stride = 4;
   double prior_weight = 1e-3;          // eps
   // Stop (once the gate is final) when the vertices' RMS move in an iteration is below this.
-  // Until 2026-11-25 this was the largest move, which the fits never got below (all iterations
-  // ran); the same value as an RMS ends warm fits after two iterations.
+  // An RMS, not the largest move: the fits never got the largest below it (all iterations
+  // ran); as an RMS it ends warm fits after two iterations.
   double converged_step_m = 2e-4;
   double observed_distance_m = 0.012;  // a vertex with a cloud point this close was observed
   // Warm start (sheet_tracker.h): the fit starts from the prediction moved along its normals

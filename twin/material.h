@@ -75,7 +75,7 @@ struct Material {
 // D = E t^3 / (12 (1 - nu^2)), N*m from N/m^2, m.
 double bending_rigidity_from_modulus(double modulus_Pa, double thickness_m, double poisson_ratio);
 
-// Material file (JSON), see README "Material file". `source` names the file in error messages.
+// Material file (JSON), see docs/file_formats.md ("Material file"). `source` names the file in error messages.
 Material material_from_json(const nlohmann::json& j, const std::string& source);
 nlohmann::json material_to_json(const Material& m);
 Material read_material_file(const std::string& path);

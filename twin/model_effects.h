@@ -1,7 +1,7 @@
 #pragma once
 // Optional physical effects of the twin beyond the paper's model: the terms the discrepancy
 // workflow (issue 6) can name, fit and add. They live in the material file's "effects" block
-// (README "Material file"), so the twin, identification and the cell use them with no code
+// (docs/file_formats.md, "Material file"), so the twin, identification and the cell use them with no code
 // change. Every field's default is the paper's model (the effect absent), and a file without the
 // block reads as that.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Per-marker residuals of a fitted trial, for looking at where the twin misses (README
+// Per-marker residuals of a fitted trial, for looking at where the twin misses (docs/file_formats.md,
 // "Residual files"). Per stage:
 //   <stage>_residuals.csv   one row per marker (or cloud point): index, u_m, v_m (material
 //                           point; empty for cloud points), observed x y z, predicted x y z,

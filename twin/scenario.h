@@ -1,6 +1,6 @@
 #pragma once
 // Scenario file: a sheet, its material, its clamps and the stages the clamps go through.
-// The format is documented in README.md ("Scenario file"); in short:
+// The format is documented in docs/file_formats.md ("Scenario file"); in short:
 //   {
 //     "sheet": {"width_m": 1.17, "height_m": 0.975, "target_triangles": 6000,
 //               "placement": {"origin_m": [0, 0, 1.0], "rotation_deg": [0, 0, 0]}},

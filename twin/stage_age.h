@@ -1,7 +1,7 @@
 #pragma once
 // How long a trial stage's load had been on when the stage was scanned: the age that
-// viscoelastic relaxation (model_effects.h) depends on. From the stage fields (README "Trial
-// directory"):
+// viscoelastic relaxation (model_effects.h) depends on. From the stage fields (docs/file_formats.md,
+// "Trial directory"):
 //   time_s             when the stage was scanned (s, any common origin);
 //   clamps_moved_at_s  when the clamps reached this stage's poses (s, same clock).
 // age = time_s - clamps_moved_at_s. When clamps_moved_at_s is absent it defaults to

@@ -1,7 +1,7 @@
 #pragma once
 // A scanned trial (issue 3): a sheet held by clamps through stages, observed at each stage as
 // marker positions (or an unordered point cloud). The format is a directory, documented in
-// README.md ("Trial directory"); in short:
+// docs/file_formats.md ("Trial directory"); in short:
 //
 //   trial.json
 //   {

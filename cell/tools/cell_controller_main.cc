@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
       fmt::print("\nexperiment ({}):\n{}\n", config.experiment_file, cell::format_results(runner->results()));
       if (!out_dir.empty()) {
         // Atomically: a reader that polls for the file (the integration test, a shop-floor
-        // script) must never find it empty or half written (seen in CI, 2026-11-26).
+        // script) must never find it empty or half written (seen in CI).
         const std::filesystem::path results = std::filesystem::path(out_dir) / "experiment.json";
         try {
           twin::write_file_atomically(results, [&](std::ostream& out) {

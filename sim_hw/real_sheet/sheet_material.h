@@ -6,7 +6,7 @@
 //
 // Membrane: energy density (J/m^2) 1/2 e^T C e on the Green-Lagrange strain
 //   e = (E_uu, E_vv, 2 E_uv), C (N/m) the orthotropic plane-stress matrix of the material file's
-//   tensile stiffnesses Y_u, Y_v, Poisson ratio nu and shear stiffness G (README "Material file").
+//   tensile stiffnesses Y_u, Y_v, Poisson ratio nu and shear stiffness G (docs/file_formats.md, "Material file").
 // Bending: energy density 1/2 k^T D k (1 + beta/2 |k|^2) on the curvature change
 //   k = (k_uu, k_vv, 2 k_uv) - rest, k_ab = x_,ab . n (the second fundamental form in material
 //   coordinates), D = [[D11, D12, 0], [D12, D22, 0], [0, 0, D66]] (N*m), |k|^2 = k_uu^2 + k_vv^2

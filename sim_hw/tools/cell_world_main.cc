@@ -1,5 +1,5 @@
-// cell_world: the cell's fake hardware in one process (see sim_hw/cell_world.h and README
-// "Fake-hardware world"):
+// cell_world: the cell's fake hardware in one process (see sim_hw/cell_world.h and
+// docs/fake_world.md):
 //   cell_world --config CELL.json --world WORLD.json [--lcm URL] [--max-seconds S]
 //              [--emulation-env FILE] [--quiet]
 // Loads the ply as the cell config's grasp plan says, then serves the arms, grippers and cameras

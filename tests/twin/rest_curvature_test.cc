@@ -111,7 +111,7 @@ TEST_CASE("rest angles are linear in the rest curvature tensor", "[twin][effects
 
 TEST_CASE("the ShellModel applies the bending effects of a material file, and only on change",
           "[twin][effects]") {
-  // As a user writes it: the "effects" block of the material file (README "Material file").
+  // As a user writes it: the "effects" block of the material file (docs/file_formats.md, "Material file").
   nlohmann::json j = material_to_json(Material{});
   j["effects"] = nlohmann::json::parse(
       R"({"rest_curvature_1_m": {"uu": 4.0}, "bending_stiffening_m2": 0.03})");

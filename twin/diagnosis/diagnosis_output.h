@@ -1,5 +1,5 @@
 #pragma once
-// The files of `twin diagnose` (README "Diagnosis"): OUT/verdict.json, OUT/material_augmented.json
+// The files of `twin diagnose` (docs/diagnosis.md): OUT/verdict.json, OUT/material_augmented.json
 // (only when an effect is named: the base fit's material file plus the effect, so the twin,
 // identification and the cell use it with no code change) and the report (diagnosis_report.h).
 
@@ -27,7 +27,7 @@ struct DiagnosisRecord {
   std::string optimizer;                     // of the base fit and the refits: "lbfgs" or "lm"
 };
 
-// verdict.json's content (the contract in README "Diagnosis").
+// verdict.json's content (the contract in docs/diagnosis.md).
 nlohmann::json verdict_json(const DiagnoseOutcome& outcome, const DiagnosisRecord& record);
 
 // Writes every file into options.report and returns the terminal summary.

@@ -24,13 +24,11 @@
 namespace twin::diagnosis {
 
 // The optimiser of the base fit and of every refit (`twin diagnose --optimizer` chooses another):
-// Levenberg-Marquardt, as in identification. On the 21 blind sets of README "Diagnosis on blind
-// trial sets" (2026-11-26) it gave 21 right verdicts in 173 s per set (L-BFGS, before the
-// best-branch rule below: 19 in 243 s).
-// It was kept out until the diagnosis told a branch change from an effect (2026-11-25: its base
-// fit of null set 1003 left a stage on a neighbouring equilibrium, and a clamp-slip refit that
-// moved the sheet onto the right branch was named); better_branch() below now moves the base
-// onto such a refit's equilibria first, and that set is "none".
+// Levenberg-Marquardt, as in identification. On 21 blind sets of the twin's own truth it gave
+// 21 right verdicts in 173 s per set (L-BFGS, before the best-branch rule below: 19 in 243 s).
+// It needs that rule: without it, a base fit of a null set (1003) that left a stage on a
+// neighbouring equilibrium had a clamp-slip refit, which moved the sheet onto the right branch,
+// named; better_branch() below moves the base onto such a refit's equilibria first.
 inline constexpr GradientOptimizer kDiagnosisOptimizer = GradientOptimizer::kLevenbergMarquardt;
 
 struct StageScore {

@@ -22,7 +22,7 @@
 namespace twin::diagnosis {
 
 // A stage whose RMS residual exceeds this multiple of the median stage's is down-weighted.
-// Over the blind sets' refits (README "Diagnosis on blind trial sets", 2026-11-27) the
+// Over the blind sets' refits (sets of the twin's own truth) the
 // largest stage over the median was at most 1.8x where the refit was right, and 5.8-20x where
 // one or two stages sat on another fold or carried physics outside the library.
 inline constexpr double kOutlierStageRatio = 3.0;

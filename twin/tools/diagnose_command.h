@@ -1,6 +1,6 @@
 #pragma once
 // `twin diagnose`: where twin and measurement disagree, which missing effect explains it, the
-// augmented material file and the report (README "Diagnosis"; twin/diagnosis/diagnose.h).
+// augmented material file and the report (docs/diagnosis.md; twin/diagnosis/diagnose.h).
 
 #include <CLI/CLI.hpp>
 

@@ -1,5 +1,5 @@
 #pragma once
-// `twin identify`: material parameters from scanned trials (README "Identification").
+// `twin identify`: material parameters from scanned trials (docs/identification.md).
 
 #include <string>
 #include <vector>
