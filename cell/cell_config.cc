@@ -5,7 +5,7 @@
 
 #include "drivers/camera_config_json.h"
 #include "tracking/tracker_config_json.h"
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace cell {
 namespace {

@@ -30,10 +30,10 @@
 //                                              other busy process starves the twin;
 //                                              "normal": at the cycle's own priority)
 //   "twin": {"material_file": "composite.json",   (required; relative to this file)
-//            "sheet": {...}},                      (required; twin/sheet_spec.h; without a
+//            "sheet": {...}},                      (required; twin/trials/sheet_spec.h; without a
 //                                                    "placement" the flat start is centred under
 //                                                    the plan's hold positions)
-//   "job": {"plan_file": "plan.json",              (required; twin/grasp_plan.h)
+//   "job": {"plan_file": "plan.json",              (required; twin/trials/grasp_plan.h)
 //           "experiment_file": "experiment.json"}, (optional; cell/experiment_file.h)
 //   "tracker": {...} | "tracker.json"              (optional; tracking/tracker_config_json.h,
 //                                                    inline or a file relative to this file)
@@ -46,7 +46,7 @@
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
 #include "tracking/sheet_tracker.h"
-#include "twin/sheet_spec.h"
+#include "twin/trials/sheet_spec.h"
 
 namespace cell {
 

@@ -28,7 +28,7 @@
 #include "cell/watchdog.h"
 #include "drivers/lcm_bus.h"
 #include "tracking/sheet_tracker.h"
-#include "twin/grasp_plan.h"
+#include "twin/trials/grasp_plan.h"
 
 namespace cell {
 

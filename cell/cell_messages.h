@@ -15,8 +15,8 @@
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
 #include "tracking/sheet_tracker.h"
-#include "twin/grasp_plan.h"
-#include "twin/types.h"
+#include "twin/trials/grasp_plan.h"
+#include "twin/base/types.h"
 
 namespace cell {
 

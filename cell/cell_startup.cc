@@ -9,7 +9,7 @@
 #include "cell/cell_controller.h"
 #include "cell/sheet_compare.h"
 #include "drivers/lcm_channels.h"
-#include "twin/material.h"
+#include "twin/model/material.h"
 
 namespace cell {
 

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "twin/clamp.h"
-#include "twin/grasp_plan.h"
-#include "twin/implicit_stepper.h"
-#include "twin/material.h"
-#include "twin/shell_model.h"
-#include "twin/static_solver.h"
+#include "twin/model/clamp.h"
+#include "twin/trials/grasp_plan.h"
+#include "twin/solvers/implicit_stepper.h"
+#include "twin/model/material.h"
+#include "twin/model/shell_model.h"
+#include "twin/solvers/static_solver.h"
 
 namespace cell {
 

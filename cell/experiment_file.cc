@@ -1,6 +1,6 @@
 #include "cell/experiment_file.h"
 
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace cell {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "twin/types.h"
+#include "twin/base/types.h"
 
 namespace cell {
 

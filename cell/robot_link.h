@@ -14,7 +14,7 @@
 
 #include "drivers/cell_hardware_config.h"
 #include "drivers/lcm_bus.h"
-#include "twin/grasp_plan.h"
+#include "twin/trials/grasp_plan.h"
 
 namespace cell {
 

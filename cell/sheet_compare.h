@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "tracking/surface_mesh.h"
-#include "twin/sheet_mesh.h"
-#include "twin/types.h"
+#include "twin/mesh/sheet_mesh.h"
+#include "twin/base/types.h"
 
 namespace cell {
 

@@ -89,7 +89,7 @@ wait
 
 # Per set: effect, verdict class (right / wrong_name / none / unexplained / model_form / failed),
 # errors, and the error budget: the base fit's held-out mean error over the noise floor and the
-# discretisation error its residual holds (twin/discretisation_check.h).
+# discretisation error its residual holds (twin/trials/discretisation_check.h).
 results="$out/results.tsv"
 printf 'effect\tseed\toutcome\tverdict\tnamed\tbefore_mm\tafter_mm\tnoise_floor_mm\tmeets_error_target\tgenerate_s\tdiagnose_s\tshift_mm\tmeets_gap_target\tbase_over_floor\tdiscretisation_mm\n' > "$results"
 index=0

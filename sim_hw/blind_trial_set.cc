@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "twin/atomic_file.h"
+#include "twin/base/atomic_file.h"
 
 namespace sim_hw {
 namespace {

@@ -9,8 +9,8 @@
 // angles from the material); on the independent sheet as a band of rest curvature
 // (real_sheet/sheet_material.h), that model's own form of the same fold.
 
-#include "twin/shell_model.h"
-#include "twin/types.h"
+#include "twin/model/shell_model.h"
+#include "twin/base/types.h"
 
 namespace sim_hw {
 

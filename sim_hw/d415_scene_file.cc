@@ -2,8 +2,8 @@
 
 #include <filesystem>
 
-#include "twin/json_field.h"
-#include "twin/mesh_io.h"
+#include "twin/base/json_field.h"
+#include "twin/mesh/mesh_io.h"
 
 namespace sim_hw {
 namespace {

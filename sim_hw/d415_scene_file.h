@@ -17,13 +17,13 @@
 //                "stale_mode": "stopped" | "lagging", "stale_lag_s": 1.0}
 //   }
 // Every key but "meshes" is optional (defaults as in the structs). Coordinates are in the cell
-// frame (m, z up); mesh files (PLY/OBJ, twin/mesh_io.h) are relative to the scene file. Albedo is
+// frame (m, z up); mesh files (PLY/OBJ, twin/mesh/mesh_io.h) are relative to the scene file. Albedo is
 // RGB 0..255. The scene is static (the same snapshot at every time).
 
 #include <string>
 
 #include "sim_hw/simulated_d415.h"
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace sim_hw {
 

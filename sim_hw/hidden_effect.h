@@ -3,7 +3,7 @@
 // scanner lab's sheet has, and how strong, drawn from a seed. The analysing side (twin diagnose)
 // never sees the seed, the choice or the magnitudes; only the trial files.
 //
-// Effects (names as in twin/model_effects.h and the diagnose verdict), equally likely:
+// Effects (names as in twin/model/model_effects.h and the diagnose verdict), equally likely:
 //   none                     the specimen's own material
 //   orthotropic_stiffness    warp/weft bending ratio 0.3-0.6 or 1.7-2.5 (hinge bending on the
 //                            twin's coarse meshes represents up to about 2.6), tensile 0.5-2
@@ -13,13 +13,13 @@
 //   marker_mass              0.5-2 g per marker (quarter-inch raised markers)
 //   viscoelastic_relaxation  fraction 0.3-0.6, time constant 60-600 s
 //   clamp_grip               the jaws grip 2-6 cm further out than the trial file's grip
-//                            radii say, with strength 0.3-1.5 (twin/clamp_grip_term.h). The markers
+//                            radii say, with strength 0.3-1.5 (twin/model/clamp_grip_term.h). The markers
 //                            hidden stay those within the lab's jaw radius: which markers a
 //                            trial hides must not give the effect away. Rigid jaws of a wider radius were
 //                            tried first: on the 300-triangle reference mesh they grip whole
 //                            9 cm triangles or nothing, a change no smooth model follows.
 //   clamp_slip               the ply slips in the jaws by 0.1-1 mm per newton of pull along the
-//                            jaw faces (twin/clamp_slip_term.h)
+//                            jaw faces (twin/model/clamp_slip_term.h)
 //   outside_library          the ply was folded in four once: two perpendicular creases
 //                            (sim_hw/crease.h) through a point near the middle, 40-80 deg each
 // The ranges are the lab's idea of realistic, not the analysis's: diagnose must not rely on them.
@@ -32,7 +32,7 @@
 
 #include "sim_hw/crease.h"
 #include "sim_hw/lab_materials.h"
-#include "twin/material.h"
+#include "twin/model/material.h"
 
 namespace sim_hw {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "twin/material.h"
+#include "twin/model/material.h"
 
 namespace sim_hw {
 

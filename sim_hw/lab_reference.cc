@@ -8,10 +8,10 @@
 #include <fmt/format.h>
 
 #include "sim_hw/real_sheet/stage_path.h"
-#include "twin/material_point.h"
-#include "twin/mesh_refinement.h"
-#include "twin/shell_model.h"
-#include "twin/trial_simulation.h"
+#include "twin/mesh/material_point.h"
+#include "twin/mesh/mesh_refinement.h"
+#include "twin/model/shell_model.h"
+#include "twin/trials/trial_simulation.h"
 
 namespace sim_hw {
 namespace {

@@ -13,9 +13,9 @@
 
 #include "sim_hw/crease.h"
 #include "sim_hw/real_sheet/jaw_pad.h"
-#include "twin/material.h"
-#include "twin/sheet_mesh.h"
-#include "twin/trial.h"
+#include "twin/model/material.h"
+#include "twin/mesh/sheet_mesh.h"
+#include "twin/trials/trial.h"
 
 namespace sim_hw {
 

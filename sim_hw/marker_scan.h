@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "twin/types.h"
+#include "twin/base/types.h"
 
 namespace sim_hw {
 

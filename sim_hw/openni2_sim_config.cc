@@ -2,7 +2,7 @@
 
 #include <set>
 
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace sim_hw {
 namespace {

@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "sim_hw/marker_scan.h"
-#include "twin/atomic_file.h"
-#include "twin/material_point.h"
-#include "twin/stage_age.h"
-#include "twin/trial_simulation.h"
+#include "twin/base/atomic_file.h"
+#include "twin/mesh/material_point.h"
+#include "twin/trials/stage_age.h"
+#include "twin/trials/trial_simulation.h"
 
 namespace sim_hw {
 namespace {

@@ -21,8 +21,8 @@
 #include "sim_hw/crease.h"
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/lab_reference.h"
-#include "twin/shell_model.h"
-#include "twin/trial.h"
+#include "twin/model/shell_model.h"
+#include "twin/trials/trial.h"
 
 namespace sim_hw {
 
@@ -38,7 +38,7 @@ struct ScannerLabConfig {
   double path_grid_spacing_m = 0;  // the clamps' path on this coarser grid (0: default)
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
   // Twin model: the reference mesh; the twin should use a coarser one. Refined near the clamps
-  // until the jaws are resolved (twin/trial.h: jaw_refinement_radii_m; on 6000 triangles 0.03
+  // until the jaws are resolved (twin/trials/trial.h: jaw_refinement_radii_m; on 6000 triangles 0.03
   // and 0.015 m, 6760 triangles): the uniform mesh's 2 cm triangles are larger than the jaws
   // (1.5 cm grip radius), so each clamp would hold one triangle or a few vertices, whichever the
   // mesh put there. Or, when radii are given (and reference_resolves_jaws is false), one level

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "sim_hw/render_scene.h"
-#include "twin/sheet_mesh.h"
-#include "twin/types.h"
+#include "twin/mesh/sheet_mesh.h"
+#include "twin/base/types.h"
 
 namespace sim_hw {
 

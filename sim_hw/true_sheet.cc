@@ -7,7 +7,7 @@
 
 #include <omp.h>
 
-#include "twin/scenario.h"
+#include "twin/trials/scenario.h"
 
 namespace sim_hw {
 

@@ -21,9 +21,9 @@
 #include <Eigen/Geometry>
 
 #include "sim_hw/true_sheet_physics.h"
-#include "twin/clamp.h"
-#include "twin/sheet_spec.h"
-#include "twin/solve_report.h"
+#include "twin/model/clamp.h"
+#include "twin/trials/sheet_spec.h"
+#include "twin/solvers/solve_report.h"
 
 namespace sim_hw {
 

@@ -8,9 +8,9 @@
 
 #include "sim_hw/real_sheet/equilibrium_solver.h"
 #include "sim_hw/real_sheet/sheet_model.h"
-#include "twin/implicit_stepper.h"
-#include "twin/shell_model.h"
-#include "twin/static_solver.h"
+#include "twin/solvers/implicit_stepper.h"
+#include "twin/model/shell_model.h"
+#include "twin/solvers/static_solver.h"
 
 namespace sim_hw {
 namespace {

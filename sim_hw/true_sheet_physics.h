@@ -12,10 +12,10 @@
 #include <Eigen/Geometry>
 
 #include "sim_hw/lab_reference.h"
-#include "twin/clamp.h"
-#include "twin/material.h"
-#include "twin/sheet_mesh.h"
-#include "twin/sheet_spec.h"
+#include "twin/model/clamp.h"
+#include "twin/model/material.h"
+#include "twin/mesh/sheet_mesh.h"
+#include "twin/trials/sheet_spec.h"
 
 namespace sim_hw {
 

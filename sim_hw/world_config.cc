@@ -7,7 +7,7 @@
 #include "drivers/camera_config_json.h"
 #include "drivers/pose_json.h"
 #include "sim_hw/d415_scene_file.h"
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace sim_hw {
 namespace {

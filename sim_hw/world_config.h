@@ -2,7 +2,7 @@
 // The fake-hardware world's own config file (`cell_world --world WORLD.json`), read together with
 // the cell config (arms, grippers, cameras' modes, job.plan_file). It holds what the cell must
 // not know: the true sheet and material, the true camera poses, how the devices are emulated.
-//   {"sheet": {...},                       (twin/sheet_spec.h; the true sheet's own mesh)
+//   {"sheet": {...},                       (twin/trials/sheet_spec.h; the true sheet's own mesh)
 //    "material_file": "composite_truth.json",   (relative to this file; twin material file)
 //    "physics": {"dt_s": 0.0333, "truth_hz": 5,      (step, s; SIM_SHEET_TRUTH rate, Hz)
 //                "truth_model": "independent",       (or "twin": the true sheet's physics,
@@ -32,9 +32,9 @@
 #include "sim_hw/d415_error_model.h"
 #include "sim_hw/render_scene.h"
 #include "sim_hw/true_sheet_physics.h"
-#include "twin/grasp_plan.h"
-#include "twin/material.h"
-#include "twin/sheet_spec.h"
+#include "twin/trials/grasp_plan.h"
+#include "twin/model/material.h"
+#include "twin/trials/sheet_spec.h"
 
 namespace sim_hw {
 

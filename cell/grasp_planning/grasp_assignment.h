@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "drivers/cell_hardware_config.h"
-#include "twin/grasp_plan.h"
+#include "twin/trials/grasp_plan.h"
 
 namespace cell {
 

@@ -5,7 +5,7 @@
 #include <random>
 #include <set>
 
-#include "twin/material_point.h"
+#include "twin/mesh/material_point.h"
 
 namespace cell {
 namespace {

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <set>
 
-#include "twin/json_field.h"
+#include "twin/base/json_field.h"
 
 namespace cell {
 namespace {

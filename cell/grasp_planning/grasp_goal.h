@@ -1,7 +1,7 @@
 #pragma once
 // What the grasp planner is asked for: hold this ply above this tool, sagging at most so much and
 // without folds, with these 2-4 grippers. Goal file (JSON; relative paths are relative to it):
-//   {"sheet": {...},                   (twin/sheet_spec.h; its "placement" is not used: the planner
+//   {"sheet": {...},                   (twin/trials/sheet_spec.h; its "placement" is not used: the planner
 //                                       lays the ply out over the tool)
 //    "material_file": "composite_identified.json",
 //    "tool": {"centre_m": [x, y],      (cell frame, m: the flat ply's centre is laid out above it)
@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "twin/material.h"
-#include "twin/sheet_spec.h"
+#include "twin/model/material.h"
+#include "twin/trials/sheet_spec.h"
 
 namespace cell {
 

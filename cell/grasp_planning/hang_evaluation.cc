@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "twin/quasi_static.h"
-#include "twin/trial_simulation.h"
+#include "twin/solvers/quasi_static.h"
+#include "twin/trials/trial_simulation.h"
 
 namespace cell {
 namespace {

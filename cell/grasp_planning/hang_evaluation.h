@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cell/grasp_planning/hang_metrics.h"
-#include "twin/grasp_plan.h"
-#include "twin/shell_model.h"
+#include "twin/trials/grasp_plan.h"
+#include "twin/model/shell_model.h"
 
 namespace cell {
 

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "cell/grasp_planning/grasp_goal.h"
-#include "twin/sheet_mesh.h"
+#include "twin/mesh/sheet_mesh.h"
 
 namespace cell {
 

@@ -28,7 +28,7 @@
 #include "cell/cell_config.h"
 #include "cell/cell_controller.h"
 #include "cell/experiment_runner.h"
-#include "twin/atomic_file.h"
+#include "twin/base/atomic_file.h"
 
 namespace {
 

@@ -13,11 +13,11 @@
 
 #include "cell/cell_config.h"
 #include "cell/cell_log_cycles.h"
-#include "twin/atomic_file.h"
+#include "twin/base/atomic_file.h"
 #include "twin/diagnosis/diagnosis_report.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/residual_analysis.h"
-#include "twin/grasp_plan.h"
+#include "twin/trials/grasp_plan.h"
 
 namespace dx = twin::diagnosis;
 

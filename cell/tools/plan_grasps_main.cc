@@ -20,7 +20,7 @@
 #include "cell/grasp_planning/grasp_assignment.h"
 #include "cell/grasp_planning/grasp_planner.h"
 #include "cell/grasp_planning/plan_table.h"
-#include "twin/mesh_io.h"
+#include "twin/mesh/mesh_io.h"
 
 namespace {
 

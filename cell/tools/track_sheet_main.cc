@@ -27,7 +27,7 @@
 #include "sim_hw/simulated_cameras.h"
 #include "tracking/sheet_tracker.h"
 #include "tracking/tracker_config_json.h"
-#include "twin/mesh_io.h"
+#include "twin/mesh/mesh_io.h"
 
 namespace {
 

@@ -33,7 +33,7 @@
 #include <Eigen/Core>
 
 #include "sim_hw/real_sheet/grid.h"
-#include "twin/material.h"
+#include "twin/model/material.h"
 
 namespace sim_hw::real_sheet {
 

@@ -12,7 +12,7 @@
 
 #include "sim_hw/real_sheet/equilibrium_solver.h"
 #include "sim_hw/real_sheet/sheet_model.h"
-#include "twin/clamp.h"
+#include "twin/model/clamp.h"
 
 namespace sim_hw::real_sheet {
 

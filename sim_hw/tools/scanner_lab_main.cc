@@ -15,8 +15,8 @@
 
 #include "sim_hw/blind_trial_set.h"
 #include "sim_hw/scanner_lab.h"
-#include "twin/clamp_refinement_option.h"
-#include "twin/material.h"
+#include "twin/trials/clamp_refinement_option.h"
+#include "twin/model/material.h"
 
 namespace {
 

@@ -9,8 +9,8 @@
 #include "drivers/iiwa_lcm.h"
 #include "drivers/lcm_channels.h"
 #include "sim_hw/sheet_scene.h"
-#include "twin/grasp_plan.h"
-#include "twin/material.h"
+#include "twin/trials/grasp_plan.h"
+#include "twin/model/material.h"
 
 namespace cell_test {
 namespace {

@@ -13,9 +13,9 @@
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/residual_analysis.h"
 #include "twin/diagnosis/refit.h"
-#include "twin/discretisation_check.h"
-#include "twin/identification.h"
-#include "twin/stage_age.h"
+#include "twin/trials/discretisation_check.h"
+#include "twin/trials/identification.h"
+#include "twin/trials/stage_age.h"
 #include "tests/support/uniform_lab_config.h"
 
 namespace dx = twin::diagnosis;
@@ -219,7 +219,7 @@ TEST_CASE("on an independent-lab trial with repeated scans the noise estimate is
   CHECK(noise.from_observations_m > noise.sigma_m);
 }
 
-// The discretisation check (twin/discretisation_check.h) on trials of the twin's own model: made
+// The discretisation check (twin/trials/discretisation_check.h) on trials of the twin's own model: made
 // on the twin's very mesh, the residual holds none of the twin's discretisation pattern, however
 // far the markers move on twice the triangles; made on a finer mesh, it holds it.
 TEST_CASE("the residual holds the twin's discretisation error only when the sheet was not made on its mesh",

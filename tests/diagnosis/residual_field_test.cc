@@ -3,9 +3,9 @@
 #include <cmath>
 #include <limits>
 
-#include "twin/clamp.h"
+#include "twin/model/clamp.h"
 #include "twin/diagnosis/residual_field.h"
-#include "twin/sheet_mesh.h"
+#include "twin/mesh/sheet_mesh.h"
 
 using twin::Vec2;
 using twin::Vec3;

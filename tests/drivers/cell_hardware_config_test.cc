@@ -8,7 +8,7 @@
 #include "drivers/iiwa_inverse_kinematics.h"
 #include "drivers/json_field.h"
 #include "drivers/pose_json.h"
-#include "twin/grasp_plan.h"
+#include "twin/trials/grasp_plan.h"
 
 using namespace drivers;
 using nlohmann::json;

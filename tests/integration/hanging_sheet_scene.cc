@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "sim_hw/d415_model.h"
-#include "twin/clamp.h"
-#include "twin/shell_model.h"
-#include "twin/static_solver.h"
+#include "twin/model/clamp.h"
+#include "twin/model/shell_model.h"
+#include "twin/solvers/static_solver.h"
 
 namespace integration {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "drivers/depth_camera.h"
 #include "tracking/surface_mesh.h"
-#include "twin/sheet_mesh.h"
-#include "twin/types.h"
+#include "twin/mesh/sheet_mesh.h"
+#include "twin/base/types.h"
 
 namespace integration {
 

@@ -20,7 +20,7 @@
 
 #include "tests/support/child_process.h"
 #include "tests/support/temp_dir.h"
-#include "twin/material.h"
+#include "twin/model/material.h"
 
 namespace {
 

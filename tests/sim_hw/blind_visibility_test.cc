@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "sim_hw/blind_trial_set.h"
-#include "twin/identification.h"
+#include "twin/trials/identification.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Identification (twin/identification.h) on trials from the scanner lab. The lab's reference
+// Identification (twin/trials/identification.h) on trials from the scanner lab. The lab's reference
 // sheet and the twin use the same coarse mesh here, so the only gap between them is scanner
 // noise and the material: these tests check the machinery (gradients, optimisers, intervals).
 // How a coarser twin fares against a finer reference is the identification benchmark's job.
@@ -14,9 +14,9 @@
 
 #include "sim_hw/scanner_lab.h"
 #include "tests/support/temp_dir.h"
-#include "twin/identification.h"
-#include "twin/static_solver.h"
-#include "twin/trial_simulation.h"
+#include "twin/trials/identification.h"
+#include "twin/solvers/static_solver.h"
+#include "twin/trials/trial_simulation.h"
 #include "tests/support/uniform_lab_config.h"
 
 namespace {

@@ -9,7 +9,7 @@
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
 #include "tests/support/temp_dir.h"
-#include "twin/trial.h"
+#include "twin/trials/trial.h"
 
 namespace sim_hw {
 namespace {

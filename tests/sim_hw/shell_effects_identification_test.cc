@@ -12,7 +12,7 @@
 
 #include "sim_hw/lab_materials.h"
 #include "sim_hw/scanner_lab.h"
-#include "twin/identification.h"
+#include "twin/trials/identification.h"
 #include "tests/support/uniform_lab_config.h"
 
 namespace {

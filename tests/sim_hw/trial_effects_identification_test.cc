@@ -7,8 +7,8 @@
 #include <map>
 
 #include "sim_hw/scanner_lab.h"
-#include "twin/identification.h"
-#include "twin/stage_age.h"
+#include "twin/trials/identification.h"
+#include "twin/trials/stage_age.h"
 #include "tests/support/uniform_lab_config.h"
 
 namespace {

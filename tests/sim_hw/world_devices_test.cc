@@ -12,7 +12,7 @@
 #include "sim_hw/world_config.h"
 #include "sim_hw/world_start.h"
 #include "tests/sim_hw/world_test_files.h"
-#include "twin/sheet_mesh.h"
+#include "twin/mesh/sheet_mesh.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "twin/types.h"
+#include "twin/base/types.h"
 
 namespace twin::testing {
 

@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "tests/support/finite_difference.h"
-#include "twin/hessian_pattern.h"
-#include "twin/objective.h"
+#include "twin/model/hessian_pattern.h"
+#include "twin/model/objective.h"
 
 namespace twin::testing {
 

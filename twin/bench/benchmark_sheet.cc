@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "twin/sheet_mesh.h"
+#include "twin/mesh/sheet_mesh.h"
 
 namespace twin::bench {
 

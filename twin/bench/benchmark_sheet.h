@@ -7,8 +7,8 @@
 
 #include <vector>
 
-#include "twin/clamp.h"
-#include "twin/shell_model.h"
+#include "twin/model/clamp.h"
+#include "twin/model/shell_model.h"
 
 namespace twin::bench {
 

@@ -26,15 +26,15 @@
 #include <fmt/format.h>
 
 #include "twin/bench/benchmark_sheet.h"
-#include "twin/energy_term.h"
-#include "twin/hessian_pattern.h"
-#include "twin/implicit_stepper.h"
-#include "twin/inertia_term.h"
-#include "twin/membrane_energy.h"
-#include "twin/objective.h"
-#include "twin/sparse_cholesky.h"
-#include "twin/static_solver.h"
-#include "twin/viscosity_term.h"
+#include "twin/model/energy_term.h"
+#include "twin/model/hessian_pattern.h"
+#include "twin/solvers/implicit_stepper.h"
+#include "twin/model/inertia_term.h"
+#include "twin/model/membrane_energy.h"
+#include "twin/model/objective.h"
+#include "twin/solvers/sparse_cholesky.h"
+#include "twin/solvers/static_solver.h"
+#include "twin/model/viscosity_term.h"
 
 namespace {
 

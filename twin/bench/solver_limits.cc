@@ -31,12 +31,12 @@
 #include <fmt/format.h>
 
 #include "twin/bench/benchmark_sheet.h"
-#include "twin/hessian_pattern.h"
-#include "twin/inertia_term.h"
-#include "twin/newton_solver.h"
-#include "twin/objective.h"
-#include "twin/sparse_cholesky.h"
-#include "twin/static_solver.h"
+#include "twin/model/hessian_pattern.h"
+#include "twin/model/inertia_term.h"
+#include "twin/solvers/newton_solver.h"
+#include "twin/model/objective.h"
+#include "twin/solvers/sparse_cholesky.h"
+#include "twin/solvers/static_solver.h"
 
 namespace {
 

@@ -28,12 +28,12 @@
 #include <fmt/format.h>
 
 #include "twin/bench/benchmark_sheet.h"
-#include "twin/hessian_pattern.h"
-#include "twin/implicit_stepper.h"
-#include "twin/objective.h"
-#include "twin/sparse_cholesky.h"
-#include "twin/static_solver.h"
-#include "twin/viscosity_term.h"
+#include "twin/model/hessian_pattern.h"
+#include "twin/solvers/implicit_stepper.h"
+#include "twin/model/objective.h"
+#include "twin/solvers/sparse_cholesky.h"
+#include "twin/solvers/static_solver.h"
+#include "twin/model/viscosity_term.h"
 
 namespace {
 

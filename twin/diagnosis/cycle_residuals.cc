@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "twin/material_point.h"
+#include "twin/mesh/material_point.h"
 
 namespace twin::diagnosis {
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "twin/clamp.h"
+#include "twin/model/clamp.h"
 #include "twin/diagnosis/residual_field.h"
-#include "twin/sheet_mesh.h"
+#include "twin/mesh/sheet_mesh.h"
 
 namespace twin::diagnosis {
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "twin/discretisation_check.h"
+#include "twin/trials/discretisation_check.h"
 #include "twin/diagnosis/model_form.h"
 #include "twin/diagnosis/refit.h"
 #include "twin/diagnosis/verdict.h"

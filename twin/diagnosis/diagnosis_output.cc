@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "twin/atomic_file.h"
+#include "twin/base/atomic_file.h"
 #include "twin/diagnosis/diagnosis_report.h"
 
 namespace twin::diagnosis {

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "twin/atomic_file.h"
+#include "twin/base/atomic_file.h"
 #include "twin/diagnosis/svg_figures.h"
 
 namespace twin::diagnosis {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "twin/diagnosis/residual_field.h"
-#include "twin/model_effects.h"
+#include "twin/model/model_effects.h"
 
 namespace twin::diagnosis {
 

@@ -1,6 +1,6 @@
 #pragma once
 // The library of candidate effects the discrepancy workflow (issue 6) can name: each an optional
-// term of the twin (twin/model_effects.h, or the per-direction stiffnesses of the material) with
+// term of the twin (twin/model/model_effects.h, or the per-direction stiffnesses of the material) with
 // its own parameters. For every candidate: the parameters it adds to the base fit, how it changes
 // the base parameter list, which added parameters the score test uses, and what the data must
 // contain for the effect to be identifiable at all.
@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "twin/material_parameters.h"
-#include "twin/trial.h"
+#include "twin/model/material_parameters.h"
+#include "twin/trials/trial.h"
 
 namespace twin::diagnosis {
 

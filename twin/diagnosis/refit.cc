@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "twin/stage_age.h"
+#include "twin/trials/stage_age.h"
 
 namespace twin::diagnosis {
 

@@ -19,7 +19,7 @@
 #include "twin/diagnosis/residual_field.h"
 #include "twin/diagnosis/score_test.h"
 #include "twin/diagnosis/stage_weights.h"
-#include "twin/identification.h"
+#include "twin/trials/identification.h"
 
 namespace twin::diagnosis {
 

@@ -8,8 +8,8 @@
 
 #include <Eigen/Dense>
 
-#include "twin/material_point.h"
-#include "twin/stage_age.h"
+#include "twin/mesh/material_point.h"
+#include "twin/trials/stage_age.h"
 
 namespace twin::diagnosis {
 namespace {
@@ -59,7 +59,7 @@ std::vector<int> ResidualField::samples_of_stage(int s) const {
 }
 
 double stage_age_s(const Trial& trial, int stage) {
-  // One definition of the age, the one the twin's relaxation uses (twin/stage_age.h).
+  // One definition of the age, the one the twin's relaxation uses (twin/trials/stage_age.h).
   return stage_load_ages_s(trial.stages).at(stage);
 }
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "twin/trial.h"
-#include "twin/trial_evaluator.h"
-#include "twin/types.h"
+#include "twin/trials/trial.h"
+#include "twin/trials/trial_evaluator.h"
+#include "twin/base/types.h"
 
 namespace twin::diagnosis {
 
@@ -63,7 +63,7 @@ struct ResidualField {
   std::vector<int> samples_of_stage(int s) const;
 };
 
-// Seconds since the clamps last moved when stage s was scanned (NaN when unknown): twin/stage_age.h,
+// Seconds since the clamps last moved when stage s was scanned (NaN when unknown): twin/trials/stage_age.h,
 // with the trial's clamps_moved_at_s where given.
 double stage_age_s(const Trial& trial, int stage);
 

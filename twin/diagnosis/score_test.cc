@@ -6,8 +6,8 @@
 #include <Eigen/QR>
 
 #include "twin/diagnosis/chi_square.h"
-#include "twin/identification.h"
-#include "twin/material_parameters.h"
+#include "twin/trials/identification.h"
+#include "twin/model/material_parameters.h"
 
 namespace twin::diagnosis {
 namespace {

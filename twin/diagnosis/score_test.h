@@ -21,7 +21,7 @@
 #include <Eigen/Core>
 
 #include "twin/diagnosis/effect_library.h"
-#include "twin/trial_evaluator.h"
+#include "twin/trials/trial_evaluator.h"
 
 namespace twin::diagnosis {
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "twin/identification.h"
+#include "twin/trials/identification.h"
 
 namespace twin::diagnosis {
 

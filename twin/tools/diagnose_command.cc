@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "twin/clamp_refinement_option.h"
+#include "twin/trials/clamp_refinement_option.h"
 
 namespace twin_cli {
 

@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "twin/discretisation_check.h"
-#include "twin/identification.h"
-#include "twin/residual_export.h"
-#include "twin/clamp_refinement_option.h"
+#include "twin/trials/discretisation_check.h"
+#include "twin/trials/identification.h"
+#include "twin/trials/residual_export.h"
+#include "twin/trials/clamp_refinement_option.h"
 
 namespace twin_cli {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "twin/trial.h"
+#include "twin/trials/trial.h"
 
 namespace twin_cli {
 

@@ -18,9 +18,9 @@
 
 #include "diagnose_command.h"
 #include "identify_command.h"
-#include "twin/atomic_file.h"
-#include "twin/mesh_io.h"
-#include "twin/scenario.h"
+#include "twin/base/atomic_file.h"
+#include "twin/mesh/mesh_io.h"
+#include "twin/trials/scenario.h"
 
 namespace {
 
