@@ -23,7 +23,7 @@ done
 # Every source of the twin sits in a part (or in tools/, bench/, diagnosis/).
 while IFS= read -r loose; do
   report "$loose: a twin source outside its parts"
-done < <(find twin -maxdepth 1 -name '*.h' -o -maxdepth 1 -name '*.cc')
+done < <(find twin -maxdepth 1 \( -name '*.h' -o -name '*.cc' \))
 while IFS= read -r hit; do
   report "$hit: the twin depends on no hardware, LCM or PCL"
 done < <(grep -rnE '#include ("(drivers|tracking|cell|sim_hw)/|<(lcm|pcl)/)' twin 2>/dev/null)
