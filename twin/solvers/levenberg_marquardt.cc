@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <fmt/format.h>
@@ -21,6 +22,37 @@ constexpr double kLargestDamping = 1e16;
 bool finite_point(const LeastSquaresPoint& p, Eigen::Index residuals, Eigen::Index parameters) {
   return p.usable && p.residuals.size() == residuals && p.jacobian.rows() == residuals &&
          p.jacobian.cols() == parameters && p.residuals.allFinite() && p.jacobian.allFinite();
+}
+
+}  // namespace
+
+namespace {
+
+// The damped Gauss-Newton step with the coordinates that sit on a bound and would be pushed
+// past it held there, the others solved for with those fixed (one pass of an active set). Cut
+// back to the bounds afterwards, a step that pushes into a bound would otherwise carry the
+// coupled coordinates with it as if the bound had not stopped it.
+Eigen::VectorXd bounded_step(const Eigen::MatrixXd& damped, const Eigen::VectorXd& g, const Eigen::VectorXd& y,
+                             const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {
+  Eigen::VectorXd step = damped.ldlt().solve(-g);
+  std::vector<Eigen::Index> moving;
+  for (Eigen::Index j = 0; j < y.size(); ++j) {
+    const bool held = (y(j) <= lower(j) && step(j) < 0.0) || (y(j) >= upper(j) && step(j) > 0.0);
+    if (!held) moving.push_back(j);
+  }
+  if (moving.size() == static_cast<std::size_t>(y.size())) return step;
+  step.setZero();
+  if (moving.empty()) return step;
+  const Eigen::Index m = static_cast<Eigen::Index>(moving.size());
+  Eigen::MatrixXd sub(m, m);
+  Eigen::VectorXd rhs(m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    rhs(a) = -g(moving[a]);
+    for (Eigen::Index b = 0; b < m; ++b) sub(a, b) = damped(moving[a], moving[b]);
+  }
+  const Eigen::VectorXd reduced = sub.ldlt().solve(rhs);
+  for (Eigen::Index a = 0; a < m; ++a) step(moving[a]) = reduced(a);
+  return step;
 }
 
 }  // namespace
@@ -52,8 +84,9 @@ LevenbergMarquardtResult levenberg_marquardt(
   while (out.evaluations < options.max_evaluations) {
     Eigen::MatrixXd damped = A;
     damped.diagonal() += damping * scale;
-    Eigen::VectorXd step = damped.ldlt().solve(-g);
-    step = (y + step).cwiseMax(lower).cwiseMin(upper) - y;
+    const Eigen::VectorXd free_step = bounded_step(damped, g, y, lower, upper);
+    Eigen::VectorXd step = (y + free_step).cwiseMax(lower).cwiseMin(upper) - y;
+    const bool clamped = (step - free_step).cwiseAbs().maxCoeff() > 0.0;
     if (!step.allFinite()) {
       out.stop_reason = "the damped normal equations have no finite solution";
       break;
@@ -65,6 +98,19 @@ LevenbergMarquardtResult levenberg_marquardt(
     }
     // Reduction of S the linear model |r + J step|^2 predicts.
     const double predicted = -(2.0 * step.dot(g) + step.dot(A * step));
+    if (!(predicted > 0.0) && clamped) {
+      // The step left the bounds and, cut back to them, no longer descends (a direction the data
+      // barely see makes the Gauss-Newton step long; cut off at a bound its other parts go
+      // uphill). More damping turns the step towards the gradient and shortens it, until it
+      // fits inside and descends: a rejected step, not the end of the search.
+      damping *= growth;
+      growth *= 2.0;
+      if (damping > kLargestDamping) {
+        out.stop_reason = fmt::format("no step within the bounds lowers the objective (damping {:.3g})", damping);
+        break;
+      }
+      continue;
+    }
     if (!(predicted > 0.0)) {
       out.converged = true;
       out.stop_reason = "no descent direction left (gradient zero within round-off)";

@@ -106,6 +106,27 @@ TEST_CASE("Levenberg-Marquardt stays inside its bounds") {
   CHECK((r.coordinates(0) == Approx(1.5) || r.coordinates(1) == Approx(0.4)));
 }
 
+TEST_CASE("Levenberg-Marquardt damps a step that leaves its bounds and goes uphill when cut back, and carries on") {
+  // Linear least squares with a direction the data barely see: the Gauss-Newton step from 0 is
+  // (3, -2); cut back to the box [-1, 1]^2 it is (1, -1), which raises S. The search must not
+  // stop there (it did: "no descent direction left" at the start).
+  const auto nearly_degenerate = [](const VectorXd& y) {
+    LeastSquaresPoint p;
+    p.usable = true;
+    p.jacobian = MatrixXd(2, 2);
+    p.jacobian << 1.0, 1.0, 1.0, 1.1;
+    p.residuals = p.jacobian * y - VectorXd((VectorXd(2) << 1.0, 0.8).finished());
+    return p;
+  };
+  const VectorXd start = VectorXd::Zero(2);
+  const LevenbergMarquardtResult r =
+      levenberg_marquardt(nearly_degenerate, start, VectorXd::Constant(2, -1.0), VectorXd::Constant(2, 1.0), {});
+  INFO(r.stop_reason);
+  CHECK(r.evaluations > 1);
+  CHECK(r.sum_squares < 0.05);  // from 1.64 at the start; the box holds points with S < 0.01
+  CHECK(r.coordinates.cwiseAbs().maxCoeff() <= 1.0);
+}
+
 TEST_CASE("Levenberg-Marquardt refuses a start without usable residuals") {
   const auto failing = [](const VectorXd&) { return LeastSquaresPoint{}; };
   CHECK_THROWS_AS(levenberg_marquardt(failing, VectorXd::Zero(2), -kWide, kWide, {}), std::invalid_argument);
