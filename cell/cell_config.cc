@@ -49,12 +49,44 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
   }
 }
 
+bool boolean(const twin::JsonField& v) {
+  if (!v.json().is_boolean()) v.fail("must be true or false");
+  return v.json().get<bool>();
+}
+
+void read_learning_settings(const twin::JsonField& f, LearningSettings& s) {
+  f.only_keys({"record_states", "calibrate", "window_s", "min_still_s", "max_states", "min_gain", "max_evaluations",
+               "parameters"});
+  if (auto v = f.optional("record_states")) s.record_states = boolean(*v);
+  if (auto v = f.optional("calibrate")) s.calibrate = boolean(*v);
+  if (auto v = f.optional("window_s")) s.settle.window_s = v->positive("s");
+  if (auto v = f.optional("min_still_s")) s.settle.min_still_s = v->non_negative("s");
+  if (auto v = f.optional("max_states")) s.max_states = v->positive_integer();
+  if (auto v = f.optional("min_gain")) {
+    s.calibration.min_gain = v->non_negative("");
+    if (s.calibration.min_gain >= 1.0) v->fail("must be in [0, 1)");
+  }
+  if (auto v = f.optional("max_evaluations")) s.calibration.max_evaluations = v->positive_integer();
+  if (auto v = f.optional("parameters")) {
+    if (!v->is_array() || v->array_size() == 0) v->fail("must be a non-empty array of parameter names");
+    s.calibration.parameters.clear();
+    for (std::size_t i = 0; i < v->array_size(); ++i) {
+      try {
+        s.calibration.parameters.push_back(twin::parse_material_parameter((*v)[i].string()));
+      } catch (const std::invalid_argument& e) {
+        (*v)[i].fail(e.what());
+      }
+    }
+  }
+  if (s.calibrate && !s.record_states) f.fail_child("calibrate", "needs record_states (it fits the recorded states)");
+}
+
 }  // namespace
 
 CellConfig read_cell_config(const std::string& path) {
   const nlohmann::json doc = twin::JsonField::parse_file(path);
   const twin::JsonField root(doc, path);
-  root.only_keys({"cell", "twin", "job", "tracker", "cameras", "arms", "grippers"});
+  root.only_keys({"cell", "twin", "job", "tracker", "learning", "cameras", "arms", "grippers"});
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
 
   CellConfig c;
@@ -80,6 +112,7 @@ CellConfig read_cell_config(const std::string& path) {
       throw std::invalid_argument(path + ": field 'tracker': " + e.what());
     }
   }
+  if (auto l = root.optional("learning")) read_learning_settings(*l, c.learning);
   c.cameras = drivers::parse_camera_configs(doc, path);
   if (c.cameras.empty()) root.fail_child("cameras", "must list at least one camera");
   if (c.cell.min_cameras > static_cast<int>(c.cameras.size())) {

@@ -37,12 +37,27 @@
 //           "experiment_file": "experiment.json"}, (optional; cell/experiment_file.h)
 //   "tracker": {...} | "tracker.json"              (optional; tracking/tracker_config_json.h,
 //                                                    inline or a file relative to this file)
+//   "learning": {"record_states": true,            (keep the settled states the cameras see,
+//                                                    cell/learning/settled_state.h)
+//                "calibrate": true,                 (fit the material to them in the background
+//                                                    and adopt it when it predicts a held-out
+//                                                    state better: in_situ_calibration.h)
+//                "window_s": 2, "min_still_s": 3,   (a settled state: the grasps still for
+//                                                    min_still_s, then window_s of tracked cycles
+//                                                    averaged, s)
+//                "max_states": 16,                  (states kept; the oldest go first)
+//                "min_gain": 0.1,                   (the held-out error must fall by this fraction)
+//                "max_evaluations": 12,             (of each fit)
+//                "parameters": ["tensile_N_m", "shear_N_m", "bending_Nm"]}  (fitted, by the
+//                                                    names of material files)
 // Paths are relative to the config file's folder. Errors throw std::invalid_argument (or
 // std::runtime_error for an unreadable file) naming the file and the field.
 #include <string>
 #include <vector>
 
 #include "cell/background_worker.h"
+#include "cell/learning/in_situ_calibration.h"
+#include "cell/learning/settled_state.h"
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
 #include "tracking/sheet_tracker.h"
@@ -67,6 +82,14 @@ struct CellSettings {
   WorkerPriority twin_priority = WorkerPriority::kNormal;
 };
 
+struct LearningSettings {
+  bool record_states = true;
+  bool calibrate = true;
+  learning::SettleOptions settle;
+  int max_states = 16;
+  learning::CalibrationOptions calibration;
+};
+
 struct CellConfig {
   std::string path;  // the file read
   CellSettings cell;
@@ -76,6 +99,7 @@ struct CellConfig {
   std::string plan_file;
   std::string experiment_file;  // empty: none
   tracking::TrackerConfig tracker;
+  LearningSettings learning;
   std::vector<drivers::CameraConfig> cameras;
   drivers::CellHardwareConfig hardware;
 };

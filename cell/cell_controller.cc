@@ -59,6 +59,7 @@ CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fau
 }
 
 CellController::~CellController() {
+  calibration_cancelled_->store(true);  // a running calibration ends within one simulation
   for (auto id : subscriptions_) bus_.unsubscribe(id);
   robots_.reset();
   cameras_.close();
@@ -76,6 +77,7 @@ void CellController::handle_bus(int ms) {
 }
 
 void CellController::stop(const std::string& why) {
+  calibration_cancelled_->store(true);
   status_.state = CellState::kStopped;
   status_.reason = why;
   publish_state();

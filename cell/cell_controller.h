@@ -10,6 +10,7 @@
 // "diverge"} by poisoning its twin steps, and {target "twin", fault "slow"} by making each step
 // three periods longer, until the fault is cleared; without it SIM_FAULT is ignored (a real
 // cell must never act on it).
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -24,6 +25,8 @@
 #include "cell/calibration_monitor.h"
 #include "cell/cell_twin.h"
 #include "cell/cycle_pacer.h"
+#include "cell/learning/in_situ_calibration.h"
+#include "cell/learning/settled_state.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
 #include "drivers/lcm_bus.h"
@@ -50,6 +53,9 @@ struct CycleReport {
   std::int64_t newest_frame_host_us = 0;  // the newest frame's arrival (host_clock_us), 0: none
   bool commanded = false;     // robot commands were sent this cycle
 };
+
+// Seconds on the steady clock (for deadlines).
+double steady_s();
 
 class CellController {
  public:
@@ -101,6 +107,24 @@ class CellController {
   // Empty when the twin's worker runs at cell.twin_priority; otherwise why it runs at normal.
   std::string twin_priority_problem() { return twin_worker_.priority_problem(); }
 
+  // What the cell learns from its cameras (issue 35, cell_learning.cc; config "learning"): the
+  // settled states it keeps, and the calibrations it runs on them in the background.
+  // Calibrations write DIR/calibration_<id>/ (trial/, report.md, material.json when adopted)
+  // here; without a directory, under the system's temporary directory.
+  void set_learning_directory(const std::string& directory) { learning_dir_ = directory; }
+  const learning::SettledStateStore& settled_states() const { return settled_states_; }
+  // The settled states so far as a trial directory (cell/learning/cell_trial.h), for `twin
+  // identify` and `twin diagnose` offline. "" or why not (no state yet, a file not written).
+  std::string write_observed_trial(const std::string& directory) const;
+  // Calibrations finished, and the latest one (nullopt before the first).
+  int calibrations() const { return calibrations_; }
+  int calibrations_adopted() const { return calibrations_adopted_; }
+  const std::optional<learning::CalibrationResult>& last_calibration() const { return last_calibration_; }
+  // The material the twin runs (the config's, or the latest adopted calibration once swapped in).
+  const twin::Material& material() const { return material_; }
+  // Why the latest adopted material could not go into the twin ("" when it did, or none yet).
+  const std::string& material_swap_problem() const { return material_swap_problem_; }
+
  private:
   // cell_startup.cc
   CellState fail(const std::string& why);
@@ -115,6 +139,10 @@ class CellController {
   void collect_twin_work(CycleReport& report);
   void publish_state();
   void publish_cameras(std::int64_t now_us);
+  // cell_learning.cc
+  void learn_from_cycle(const CycleReport& report);
+  void collect_calibration();
+  void start_calibration();
 
   CellConfig config_;
   CyclePacer pacer_;
@@ -149,21 +177,39 @@ class CellController {
   };
   std::vector<Release> releases_;
   std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;
-  // What the twin did on its worker: a step or, after a failure, a fresh static equilibrium.
+  // What the twin did on its worker: a step or, after a failure, a fresh static equilibrium, or
+  // the equilibrium under a newly adopted material (swapped).
   struct TwinWork {
     bool stepped = false;
     TwinStepResult step;
     double dt_s = 0;
     std::string initialise_problem;  // of the re-initialisation, empty when it worked
+    bool swapped = false;            // the job took up pending_material_
     std::int64_t state_utime = 0;    // the time its state is for
   };
   std::future<TwinWork> twin_work_;  // valid while the twin's worker has a job of ours
+  // Learning (cell_learning.cc).
+  double started_s_ = steady_s();
+  std::unique_ptr<learning::SettledStateDetector> settled_detector_;
+  learning::SettledStateStore settled_states_;
+  std::int64_t calibrated_at_added_ = 0;  // settled_states_.added() when the last calibration started
+  std::string learning_dir_;
+  std::optional<twin::Material> pending_material_;  // adopted, not yet in the twin
+  std::string material_swap_problem_;  // why the last adopted material did not go in ("" if it did)
+  int calibrations_ = 0, calibrations_adopted_ = 0;
+  std::optional<learning::CalibrationResult> last_calibration_;
+  struct CalibrationJob {
+    std::int64_t id = 0;
+    learning::CalibrationResult result;
+    std::string directory, material_file;
+  };
+  std::future<CalibrationJob> calibration_job_;
+  std::shared_ptr<std::atomic<bool>> calibration_cancelled_ = std::make_shared<std::atomic<bool>>(false);
+  // Runs calibrations at idle priority: only on CPU the cycle and the twin leave.
+  BackgroundWorker calibration_worker_{WorkerPriority::kIdle};
   // Runs the twin's step beside the tracker (cell_cycle.cc). Declared last, so it is destroyed
   // (finishing any step it runs) before the twin is.
   BackgroundWorker twin_worker_;
 };
-
-// Seconds on the steady clock (for deadlines).
-double steady_s();
 
 }  // namespace cell

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <optional>
+#include <utility>
 
 #include "cell/cell_controller.h"
 #include "cell/sheet_compare.h"
@@ -61,13 +63,17 @@ void CellController::update_releases(std::int64_t now_us) {
 void CellController::submit_twin_work() {
   // One step from the cycle the twin's state is for to the next cycle, with the clamps where
   // the grippers are (measured); after a failure, a fresh static equilibrium there instead.
-  const bool step = twin_problem_.empty();
+  const bool step = twin_problem_.empty() && !pending_material_;
   const std::int64_t next_cycle = status_.cycle + 1;
   const double dt_s = static_cast<double>(std::max<std::int64_t>(next_cycle - twin_cycle_, 1)) * period_s();
   twin_cycle_ = next_cycle;
   const std::int64_t state_utime = drivers::utime_now() + (step ? static_cast<std::int64_t>(1e6 * period_s()) : 0);
   const int omp_threads = omp_get_max_threads();
-  twin_work_ = twin_worker_.submit([this, step, dt_s, state_utime, omp_threads, grasps = grasp_positions()] {
+  // A newly adopted material goes in with a static equilibrium under it (cell_twin.h), from
+  // the twin's state when it is healthy.
+  std::optional<twin::Material> material;
+  if (twin_problem_.empty()) material = std::exchange(pending_material_, std::nullopt);
+  twin_work_ = twin_worker_.submit([this, step, dt_s, state_utime, omp_threads, material, grasps = grasp_positions()] {
     omp_set_num_threads(omp_threads);
     TwinWork work;
     work.stepped = step;
@@ -75,6 +81,9 @@ void CellController::submit_twin_work() {
     work.state_utime = state_utime;
     if (step) {
       work.step = twin_->step(dt_s, grasps);
+    } else if (material) {
+      work.swapped = true;
+      work.initialise_problem = twin_->set_material(*material, grasps);
     } else {
       work.initialise_problem = twin_->initialise(grasps);
     }
@@ -95,7 +104,14 @@ void CellController::collect_twin_work(CycleReport& report) {
     } else {
       twin_problem_ = work.step.message;
     }
+  } else if (work.swapped && !work.initialise_problem.empty()) {
+    // The twin kept its material and state (cell_twin.h): it stays healthy; the cell says why.
+    material_swap_problem_ = work.initialise_problem;
   } else if (work.initialise_problem.empty()) {
+    if (work.swapped) {
+      material_ = twin_->material();
+      material_swap_problem_.clear();
+    }
     twin_problem_.clear();
     prediction_ = twin_->positions();
     prediction_utime_ = work.state_utime;
@@ -153,6 +169,7 @@ CycleReport CellController::cycle() {
     }
   }
   status_.tracker_ok = report.tracked;
+  learn_from_cycle(report);
 
   // 3. Publish what the cycle saw and what the twin predicted for it.
   if (twin_ok) {

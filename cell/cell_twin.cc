@@ -45,6 +45,25 @@ std::string CellTwin::initialise(const std::vector<twin::Vec3>& grasp_positions_
   return "";
 }
 
+std::string CellTwin::set_material(const twin::Material& material, const std::vector<twin::Vec3>& grasp_positions_m) {
+  const twin::Material old = model_->material();
+  try {
+    model_->set_material(material);
+  } catch (const std::exception& e) {  // e.g. another bending model: the solvers keep their terms
+    return std::string("material not taken: ") + e.what();
+  }
+  model_->set_clamps_of_material_effects(clamps_);
+  statics_ = std::make_unique<twin::StaticSolver>(*model_);
+  const std::string problem = initialise(grasp_positions_m);
+  if (!problem.empty()) {
+    model_->set_material(old);
+    model_->set_clamps_of_material_effects(clamps_);
+    statics_ = std::make_unique<twin::StaticSolver>(*model_);
+    stepper_ = std::make_unique<twin::ImplicitStepper>(*model_);
+  }
+  return problem;
+}
+
 TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m) {
   TwinStepResult result;
   if (!initialised_) {

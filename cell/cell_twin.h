@@ -37,6 +37,13 @@ class CellTwin {
   // Static equilibrium with grasp i held at grasp_positions_m[i] (released grasps ignored),
   // from the flat placement the first time and from the last state afterwards. "" or why not.
   std::string initialise(const std::vector<twin::Vec3>& grasp_positions_m);
+  // Hot swap (in-situ calibration): the twin runs `material` from now on, and its state becomes
+  // the static equilibrium under it with grasp i held at grasp_positions_m[i], from the current
+  // state (a new material moves the sheet; carrying the old velocity would not be its motion).
+  // "" or why not; on failure the twin keeps its old material and state.
+  std::string set_material(const twin::Material& material, const std::vector<twin::Vec3>& grasp_positions_m);
+  const twin::Material& material() const { return model_->material(); }
+
   // One dynamic step of dt_s with the clamps moved to grasp_positions_m.
   TwinStepResult step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m);
 

@@ -1,5 +1,7 @@
 #include "drivers/lcm_message_checks.h"
 
+#include <utility>
+
 #include <cmath>
 #include <string_view>
 #include <vector>
@@ -178,6 +180,36 @@ std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
     if (msg.fault == f) return "";
   }
   return "fault '" + msg.fault + "' is not one of dead, frozen, stale, drop, bumped, status_silent, diverge, slow";
+}
+
+std::string message_problem(const prepreg_lcm::calibration_t& msg) {
+  if (msg.verdict != "adopted" && msg.verdict != "refused" && msg.verdict != "failed") {
+    return "verdict '" + msg.verdict + "' is not one of adopted, refused, failed";
+  }
+  constexpr int kMaxParameters = 32;
+  std::string problem = first(count_problem("parameter_names", msg.parameter_names, msg.num_parameters, kMaxParameters),
+                              count_problem("values", msg.values, msg.num_parameters, kMaxParameters),
+                              count_problem("lower95", msg.lower95, msg.num_parameters, kMaxParameters),
+                              count_problem("upper95", msg.upper95, msg.num_parameters, kMaxParameters),
+                              count_problem("determined", msg.determined, msg.num_parameters, kMaxParameters),
+                              finite_problem("values", msg.values), finite_problem("lower95", msg.lower95),
+                              finite_problem("upper95", msg.upper95));
+  if (!problem.empty()) return problem;
+  for (std::size_t i = 0; i < msg.values.size(); ++i) {
+    if (!(msg.lower95[i] <= msg.values[i] && msg.values[i] <= msg.upper95[i])) {
+      return "values[" + std::to_string(i) + "] = " + std::to_string(msg.values[i]) + " outside its interval [" +
+             std::to_string(msg.lower95[i]) + ", " + std::to_string(msg.upper95[i]) + "]";
+    }
+  }
+  for (const auto& [field, value] : {std::pair{"held_out_error_before_m", msg.held_out_error_before_m},
+                                     std::pair{"held_out_error_after_m", msg.held_out_error_after_m},
+                                     std::pair{"fitted_rms_before_m", msg.fitted_rms_before_m},
+                                     std::pair{"fitted_rms_after_m", msg.fitted_rms_after_m}}) {
+    if (std::isinf(value) || value < 0) return std::string(field) + " = " + std::to_string(value) + ", expected >= 0 or NaN";
+  }
+  return first(msg.states_fitted < 0 ? "states_fitted < 0" : std::string(),
+               msg.states_held_out < 0 ? "states_held_out < 0" : std::string(),
+               msg.simulations < 0 ? "simulations < 0" : std::string(), nonnegative_problem("seconds", msg.seconds));
 }
 
 std::string message_problem(const lcmt_iiwa_command& msg) {

@@ -146,6 +146,11 @@ CalibrationResult calibrate_material(const twin::Trial& trial, const twin::Mater
   try {
     twin::TrialEvaluator fitted(without_last_stage(trial), mesh_as_given(), current);
     twin::IdentificationProblem problem({&fitted}, current, options.parameters);
+    if (options.cancelled) {
+      problem.on_evaluation = [&](const twin::VecX&, const twin::IdentificationProblem::Evaluation&) {
+        if (options.cancelled()) throw std::runtime_error("cancelled");
+      };
+    }
     twin::GradientOptions search;
     search.optimizer = twin::GradientOptimizer::kLevenbergMarquardt;
     search.max_evaluations = options.max_evaluations;
@@ -170,6 +175,11 @@ CalibrationResult calibrate_material(const twin::Trial& trial, const twin::Mater
   // value. Wandering freely in the fit, it would otherwise carry the candidate anywhere the fitted
   // states cannot see (measured: a fit from a wrong start predicted a released flap 74 mm off
   // with shear and tensile undetermined, against 30 mm for the start).
+  if (options.cancelled && options.cancelled()) {
+    r.reason = "the fit stopped: cancelled";
+    r.seconds = seconds_since(t0);
+    return r;
+  }
   twin::Material candidate = current;
   std::vector<std::string> kept;
   for (const twin::ParameterEstimate& e : fit.estimates) {

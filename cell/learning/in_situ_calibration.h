@@ -17,6 +17,7 @@
 //
 // Pure computation on the caller's thread (the cell runs it on an idle-priority worker); it
 // uses as many OpenMP threads as the caller allows (one on the cell's worker).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct CalibrationOptions {
   int min_fitted_states = 2;   // states fitted; the newest is held out on top of them
   double min_gain = 0.10;      // the held-out error must fall by at least this fraction
   int max_evaluations = 12;    // of the Levenberg-Marquardt search
+  // Asked after every evaluation of the fit: true ends the calibration (kFailed, "cancelled")
+  // within one simulation of the states, so a cell that stops does not wait for a whole fit.
+  std::function<bool()> cancelled;
 };
 
 // One material scored on a trial's held-out (last) stage and on the stages before it.

@@ -161,6 +161,7 @@ void SettledStateStore::add(SettledObservation state) {
     return;
   }
   states_.push_back(std::move(state));
+  ++added_;
   if (static_cast<int>(states_.size()) > max_states_) states_.erase(states_.begin());
 }
 

@@ -99,6 +99,8 @@ class SettledStateStore {
   const std::vector<SettledObservation>& states() const { return states_; }
   // Counts every change (add), so a reader can tell whether anything is new since it looked.
   std::int64_t revision() const { return revision_; }
+  // Counts the states appended (not those that replaced the newest): a new way of holding the sheet.
+  std::int64_t added() const { return added_; }
   int max_states() const { return max_states_; }
 
  private:
@@ -106,7 +108,7 @@ class SettledStateStore {
   int max_states_;
   double tolerance_m_;
   std::vector<SettledObservation> states_;
-  std::int64_t revision_ = 0;
+  std::int64_t revision_ = 0, added_ = 0;
 };
 
 }  // namespace cell::learning

@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, on_signal);
 
   cell::CellController cell(config, *bus, fault_injection);
+  if (!out_dir.empty()) cell.set_learning_directory((std::filesystem::path(out_dir) / "learning").string());
   fmt::print("cell_controller: STARTING ({} cameras, {} arms, LCM {})\n", config.cameras.size(),
              config.hardware.arms.size(), config.cell.lcm_url);
   std::fflush(stdout);
@@ -111,6 +112,7 @@ int main(int argc, char** argv) {
   double error_mean = 0, error_max = 0;
   int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
   bool experiment_printed = false;
+  int calibrations_printed = 0;
   while (!g_stop) {
     const std::int64_t cycle_start_us = drivers::host_clock_us();
     const cell::CycleReport r = cell.cycle();
@@ -139,6 +141,14 @@ int main(int argc, char** argv) {
       latency.clear();
       twin_ms.clear();
       max_substeps = 0;
+    }
+    if (cell.calibrations() > calibrations_printed) {
+      calibrations_printed = cell.calibrations();
+      const cell::learning::CalibrationResult& c = *cell.last_calibration();
+      fmt::print("{:8.1f} s  calibration {}: {} ({} states fitted, {:.1f} s): {}\n",
+                 std::chrono::duration<double>(now - start).count(), calibrations_printed,
+                 cell::learning::verdict_name(c.verdict), c.fitted_states, c.seconds, c.reason);
+      std::fflush(stdout);
     }
     if (runner && runner->done() && !experiment_printed) {
       experiment_printed = true;
@@ -169,6 +179,17 @@ int main(int argc, char** argv) {
   }
   const cell::CellState final_state = cell.state();
   cell.stop(g_stop ? "stopped by signal" : "stopped");
+  if (!out_dir.empty()) {
+    // What the cameras saw, as a trial: `twin identify --train DIR` / `twin diagnose` take it.
+    const std::string trial_dir = (std::filesystem::path(out_dir) / "observed_trial").string();
+    const std::string why = cell.write_observed_trial(trial_dir);
+    if (why.empty()) {
+      fmt::print("cell_controller: {} settled states written as a trial: {}\n", cell.settled_states().states().size(),
+                 trial_dir);
+    } else {
+      fmt::print("cell_controller: no observed trial written ({})\n", why);
+    }
+  }
   fmt::print("cell_controller: STOPPED (was {}; {} malformed messages dropped)\n", cell::to_string(final_state),
              cell.dropped_messages());
   if (final_state == cell::CellState::kSafeHold) return 3;

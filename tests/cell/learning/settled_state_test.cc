@@ -140,5 +140,6 @@ TEST_CASE("the store replaces a state of the same grasps, appends another and ke
   CHECK(store.states()[0].time_s == 20);  // the oldest went
   CHECK(store.states()[2].time_s == 40);
   CHECK(store.revision() == 5);
+  CHECK(store.added() == 4);
   CHECK_THROWS_AS(SettledStateStore(0), std::invalid_argument);
 }

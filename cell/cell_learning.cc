@@ -1,0 +1,177 @@
+// CellController's learning (issue 35): settled states from the tracked cycles, calibrations of
+// the material on them on an idle-priority worker, the adopted material swapped into the twin on
+// its own worker between steps, and the CELL_CALIBRATION message.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <unistd.h>
+
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "cell/cell_controller.h"
+#include "cell/learning/cell_trial.h"
+#include "drivers/lcm_channels.h"
+#include <prepreg_lcm/calibration_t.hpp>
+#include "twin/base/atomic_file.h"
+#include "twin/model/material_parameters.h"
+
+namespace cell {
+namespace {
+
+namespace fs = std::filesystem;
+
+prepreg_lcm::calibration_t calibration_message(std::int64_t utime, std::int64_t id,
+                                               const learning::CalibrationResult& r,
+                                               const std::string& material_file) {
+  prepreg_lcm::calibration_t m;
+  m.utime = utime;
+  m.calibration_id = id;
+  m.verdict = learning::verdict_name(r.verdict);
+  m.reason = r.reason;
+  m.num_parameters = static_cast<std::int32_t>(r.estimates.size());
+  for (const twin::ParameterEstimate& e : r.estimates) {
+    m.parameter_names.emplace_back(twin::parameter_name(e.parameter));
+    m.values.push_back(e.value);
+    m.lower95.push_back(e.lower95);
+    m.upper95.push_back(e.upper95);
+    m.determined.push_back(e.determined);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const bool before = r.before.failure.empty() && r.before.held_out_mean_m > 0;
+  const bool after = r.after.failure.empty() && r.after.held_out_mean_m > 0;
+  m.held_out_error_before_m = before ? r.before.held_out_mean_m : nan;
+  m.held_out_error_after_m = after ? r.after.held_out_mean_m : nan;
+  m.fitted_rms_before_m = before ? r.before.fitted_rms_m : nan;
+  m.fitted_rms_after_m = after ? r.after.fitted_rms_m : nan;
+  m.states_fitted = r.fitted_states;
+  m.states_held_out = r.held_out_states;
+  m.simulations = r.simulations;
+  m.seconds = r.seconds;
+  m.material_file = material_file;
+  return m;
+}
+
+// report.md of one calibration: what was fitted, to what, and the verdict with its numbers.
+std::string calibration_report(std::int64_t id, const learning::CalibrationResult& r, const twin::Material& current,
+                               const std::string& material_file) {
+  std::string s = fmt::format("# Cell calibration {}: {}\n\n{}\n\n", id, learning::verdict_name(r.verdict), r.reason);
+  s += fmt::format("Fitted {} settled state(s), held out the newest ({} whole simulations, {:.1f} s). Fit: {}\n\n",
+                   r.fitted_states, r.simulations, r.seconds, r.fit.empty() ? "none" : r.fit);
+  if (!r.estimates.empty()) {
+    s += "| parameter | current | fitted | 95 % interval | determined |\n|---|---|---|---|---|\n";
+    for (const twin::ParameterEstimate& e : r.estimates) {
+      s += fmt::format("| {} | {:.4g} | {:.4g} | [{:.4g}, {:.4g}] | {} |\n", twin::parameter_name(e.parameter),
+                       twin::get_parameter(current, e.parameter), e.value, e.lower95, e.upper95,
+                       e.determined ? "yes" : "no (kept as it was)");
+    }
+    s += "\n";
+  }
+  if (r.verdict == learning::CalibrationVerdict::kFailed && r.before.held_out_mean_m == 0.0) return s;
+  const auto scores = [](const learning::StateScores& x) {
+    return x.failure.empty() ? fmt::format("held-out state {:.2f} mm mean, {:.2f} mm max; fitted states RMS {:.2f} mm",
+                                           1e3 * x.held_out_mean_m, 1e3 * x.held_out_max_m, 1e3 * x.fitted_rms_m)
+                             : "did not simulate: " + x.failure;
+  };
+  s += fmt::format("- current material: {}\n- candidate: {}\n", scores(r.before), scores(r.after));
+  if (!material_file.empty()) s += fmt::format("- written: {}\n", material_file);
+  return s;
+}
+
+}  // namespace
+
+void CellController::learn_from_cycle(const CycleReport& report) {
+  if (!config_.learning.record_states || !twin_) return;
+  collect_calibration();
+  if (!settled_detector_) {
+    settled_detector_ = std::make_unique<learning::SettledStateDetector>(
+        twin_->mesh().vertex_count(), static_cast<int>(plan_.grasps.size()), config_.cell.cycle_hz,
+        config_.learning.settle);
+  }
+  std::vector<char> engaged;
+  for (int k = 0; k < static_cast<int>(plan_.grasps.size()); ++k) engaged.push_back(twin_->engaged(k) ? 1 : 0);
+  static const std::vector<twin::Vec3> kNone;
+  static const std::vector<std::uint8_t> kNoFlags;
+  std::optional<learning::SettledObservation> state =
+      report.tracked ? settled_detector_->add_cycle(steady_s() - started_s_, report.cycle, grasp_positions(), engaged,
+                                                    last_track_.vertices_m, last_track_.vertex_observed)
+                     : settled_detector_->add_cycle(steady_s() - started_s_, report.cycle, grasp_positions(), engaged,
+                                                    kNone, kNoFlags);
+  if (state) settled_states_.add(std::move(*state));
+  start_calibration();
+}
+
+void CellController::start_calibration() {
+  if (!config_.learning.calibrate || calibration_job_.valid()) return;
+  const std::vector<learning::SettledObservation>& states = settled_states_.states();
+  if (static_cast<int>(states.size()) < config_.learning.calibration.min_fitted_states + 1) return;
+  // Once per new way of holding the sheet: its first settled state is the one held out.
+  if (settled_states_.added() == calibrated_at_added_) return;
+  calibrated_at_added_ = settled_states_.added();
+  const std::int64_t id = calibrations_ + 1;
+  const fs::path base = learning_dir_.empty()
+                            ? fs::temp_directory_path() / fmt::format("prepreg_cell_learning_{}", ::getpid())
+                            : fs::path(learning_dir_);
+  learning::CalibrationOptions options = config_.learning.calibration;
+  options.cancelled = [flag = calibration_cancelled_] { return flag->load(); };
+  calibration_job_ = calibration_worker_.submit(
+      [id, directory = base / fmt::format("calibration_{}", id), states, mesh = twin_->mesh(), plan = plan_,
+       material = material_, options] {
+        // One thread: the cycle and the twin have the cores; this takes what they leave.
+        omp_set_num_threads(1);
+        CalibrationJob job;
+        job.id = id;
+        job.directory = directory.string();
+        try {
+          const twin::Trial trial =
+              learning::write_cell_trial((directory / "trial").string(), states, mesh, plan, material);
+          job.result = learning::calibrate_material(trial, material, options);
+          if (job.result.verdict == learning::CalibrationVerdict::kAdopted) {
+            job.material_file = (directory / "material.json").string();
+            twin::write_material_file(job.material_file, job.result.candidate);
+          }
+          const std::string report = calibration_report(id, job.result, material, job.material_file);
+          twin::write_file_atomically(directory / "report.md", [&](std::ostream& out) { out << report; });
+        } catch (const std::exception& e) {  // a file not written, a trial the twin cannot take
+          job.result.verdict = learning::CalibrationVerdict::kFailed;
+          job.result.reason = e.what();
+          job.material_file.clear();
+        }
+        return job;
+      });
+}
+
+void CellController::collect_calibration() {
+  if (!calibration_job_.valid() || calibration_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    return;
+  }
+  CalibrationJob job;
+  try {
+    job = calibration_job_.get();
+  } catch (const std::exception& e) {
+    job.id = calibrations_ + 1;
+    job.result.reason = e.what();
+  }
+  ++calibrations_;
+  if (job.result.verdict == learning::CalibrationVerdict::kAdopted) {
+    ++calibrations_adopted_;
+    pending_material_ = job.result.candidate;  // the twin's worker swaps it in between steps
+  }
+  bus_.publish(std::string(drivers::channels::kCellCalibration),
+               calibration_message(drivers::utime_now(), job.id, job.result, job.material_file));
+  last_calibration_ = std::move(job.result);
+}
+
+std::string CellController::write_observed_trial(const std::string& directory) const {
+  if (!twin_ || settled_states_.states().empty()) return "no settled state recorded";
+  try {
+    learning::write_cell_trial(directory, settled_states_.states(), twin_->mesh(), plan_, material_);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace cell
