@@ -99,7 +99,13 @@ void CellController::learn_from_cycle(const CycleReport& report) {
                                                     last_track_.vertices_m, last_track_.vertex_observed)
                      : settled_detector_->add_cycle(steady_s() - started_s_, report.cycle, grasp_positions(), engaged,
                                                     kNone, kNoFlags);
-  if (state) settled_states_.add(std::move(*state));
+  if (state) {
+    // Fake hardware: the true sheet as the window ended (it is published a few times a second
+    // and the sheet is settled, so the newest is the state's).
+    const std::int64_t truth_age_us = drivers::host_clock_us() - truth_host_us_;
+    if (!truth_.empty() && truth_host_us_ > 0 && truth_age_us < 1'000'000) state->truth_m = truth_;
+    settled_states_.add(std::move(*state));
+  }
   start_calibration();
 }
 

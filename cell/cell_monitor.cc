@@ -1,6 +1,8 @@
 // Assembles the cell's per-cycle messages into monitor records.
 #include "cell/cell_monitor.h"
 
+#include <fmt/format.h>
+
 #include "cell/sheet_comparison.h"
 #include "drivers/lcm_channels.h"
 #include "tracking/point_index.h"
@@ -25,6 +27,8 @@ CellMonitor::CellMonitor(drivers::LcmBus& bus, MonitorOptions options, MonitorSi
   auto& s = subscriptions_;
   s.push_back(bus_.subscribe<prepreg_lcm::cell_state_t>(std::string(ch::kCellState),
                                                         [this](const auto& m) { on_state(m); }));
+  s.push_back(bus_.subscribe<prepreg_lcm::calibration_t>(std::string(ch::kCellCalibration),
+                                                         [this](const auto& m) { on_calibration(m); }));
   s.push_back(bus_.subscribe<prepreg_lcm::prediction_error_t>(
       std::string(ch::kPredictionError), [this](const auto& m) { on_error(m); }));
   const std::string sheets = std::string(ch::kSheetObserved) + "|" +
@@ -50,6 +54,24 @@ CellMonitor::CellMonitor(drivers::LcmBus& bus, MonitorOptions options, MonitorSi
 
 CellMonitor::~CellMonitor() {
   for (auto id : subscriptions_) bus_.unsubscribe(id);
+}
+
+void CellMonitor::on_calibration(const prepreg_lcm::calibration_t& msg) {
+  CalibrationEvent e;
+  e.seen_utime = clock_();
+  e.calibration_id = msg.calibration_id;
+  e.verdict = msg.verdict;
+  e.reason = msg.reason;
+  for (int i = 0; i < msg.num_parameters; ++i) {
+    e.parameters.push_back(fmt::format("{} {:.4g} [{:.4g}, {:.4g}]{}", msg.parameter_names[i], msg.values[i],
+                                       msg.lower95[i], msg.upper95[i], msg.determined[i] ? "" : " not determined"));
+  }
+  e.held_out_before_m = msg.held_out_error_before_m;
+  e.held_out_after_m = msg.held_out_error_after_m;
+  e.states_fitted = msg.states_fitted;
+  e.seconds = msg.seconds;
+  summary_.add_calibration(e);
+  if (sinks_.calibration) sinks_.calibration(e);
 }
 
 void CellMonitor::on_state(const prepreg_lcm::cell_state_t& msg) {

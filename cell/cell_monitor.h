@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <prepreg_lcm/calibration_t.hpp>
 #include <prepreg_lcm/camera_status_t.hpp>
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/gripper_status_t.hpp>
@@ -44,6 +45,7 @@ struct MonitorOptions {
 struct MonitorSinks {
   std::function<void(const CycleRecord&)> cycle;
   std::function<void(const StateChange&)> state_change;
+  std::function<void(const CalibrationEvent&)> calibration;  // CELL_CALIBRATION
 };
 
 class CellMonitor {
@@ -63,6 +65,7 @@ class CellMonitor {
 
  private:
   void on_state(const prepreg_lcm::cell_state_t& msg);
+  void on_calibration(const prepreg_lcm::calibration_t& msg);
   void on_error(const prepreg_lcm::prediction_error_t& msg);
   void on_sheet(const std::string& channel, const prepreg_lcm::sheet_state_t& msg);
   // The record of `cycle_id`, completing older pending ones; nullptr when the cycle is done.

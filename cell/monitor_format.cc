@@ -101,7 +101,19 @@ std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& 
   out += fmt::format("  state changes: {}\n", s.state_changes().size());
   for (const StateChange& change : s.state_changes())
     out += "    " + format_state_change(change) + "\n";
+  out += fmt::format("  calibrations: {}\n", s.calibrations().size());
+  for (const CalibrationEvent& event : s.calibrations()) out += "    " + format_calibration(event) + "\n";
   return out;
+}
+
+std::string format_calibration(const CalibrationEvent& e) {
+  std::string out = fmt::format("calibration {}: {} ({} states fitted, {:.1f} s)", e.calibration_id, e.verdict,
+                                e.states_fitted, e.seconds);
+  if (std::isfinite(e.held_out_before_m) && std::isfinite(e.held_out_after_m)) {
+    out += fmt::format(", held-out state {:.1f} -> {:.1f} mm mean", 1e3 * e.held_out_before_m, 1e3 * e.held_out_after_m);
+  }
+  for (const std::string& p : e.parameters) out += "; " + p;
+  return out + ": " + e.reason;
 }
 
 }  // namespace cell

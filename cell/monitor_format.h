@@ -16,6 +16,8 @@ std::string cell_state_name(std::int8_t state);
 // (310/360) lat 41.0 ms cams 3/3 arms LEFT 12 RIGHT 9 ms grippers G1 15 ms drops 0/0/0"
 std::string format_cycle(const CycleRecord& record);
 std::string format_state_change(const StateChange& change);
+// "calibration 2: adopted (3 states fitted, 41.0 s), held-out state 14.1 -> 9.8 mm mean; bending_Nm ...: why".
+std::string format_calibration(const CalibrationEvent& event);
 // Multi-line, ends with a newline.
 std::string format_summary(const MonitorSummary& summary, const drivers::BusCounters& bus);
 

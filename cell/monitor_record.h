@@ -50,6 +50,17 @@ struct CycleRecord {
   drivers::BusCounters bus;  // the monitor bus's drop counters when the record was completed
 };
 
+// A CELL_CALIBRATION message as the monitor keeps it (cell/learning/in_situ_calibration.h).
+struct CalibrationEvent {
+  std::int64_t seen_utime = 0;
+  std::int64_t calibration_id = 0;
+  std::string verdict, reason;
+  std::vector<std::string> parameters;  // "bending_Nm 0.00061 [0.00052, 0.00071]" (not determined: marked)
+  double held_out_before_m = 0.0, held_out_after_m = 0.0;  // NaN when not simulated
+  int states_fitted = 0;
+  double seconds = 0.0;
+};
+
 struct StateChange {
   std::int64_t seen_utime = 0;
   std::int64_t cycle_id = -1;

@@ -25,6 +25,7 @@ class MonitorSummary {
 
   void add_cycle(const CycleRecord& record);
   void add_state_change(const StateChange& change) { state_changes_.push_back(change); }
+  void add_calibration(const CalibrationEvent& event) { calibrations_.push_back(event); }
   void count_late_message() { ++late_messages_; }
   // The cell started again (cycle ids restart at 0): the ids seen so far are closed as a run.
   void start_new_run();
@@ -47,6 +48,7 @@ class MonitorSummary {
   double worst_mismatch_m() const { return worst_mismatch_m_; }
   std::uint64_t late_messages() const { return late_messages_; }
   const std::vector<StateChange>& state_changes() const { return state_changes_; }
+  const std::vector<CalibrationEvent>& calibrations() const { return calibrations_; }
   const drivers::BusCounters& last_bus() const { return last_bus_; }
 
  private:
@@ -61,6 +63,7 @@ class MonitorSummary {
   double worst_mismatch_m_ = 0.0;
   std::uint64_t late_messages_ = 0;
   std::vector<StateChange> state_changes_;
+  std::vector<CalibrationEvent> calibrations_;
   drivers::BusCounters last_bus_;
 };
 

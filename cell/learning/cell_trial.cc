@@ -70,7 +70,15 @@ twin::Trial write_cell_trial(const std::string& directory, const std::vector<Set
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < states.size(); ++k) {
     const SettledObservation& s = states[k];
+    // Fake hardware: the true sheet beside what was seen (not part of the trial format).
+    std::string truth_file;
+    if (!s.truth_m.empty()) {
+      fs::create_directories(dir / "truth", ec);
+      truth_file = "truth/" + trial.stages[k].id + ".xyz";
+      twin::write_xyz_file((dir / truth_file).string(), s.truth_m);
+    }
     rows.push_back({{"stage", trial.stages[k].id},
+                    {"truth_file", truth_file.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(truth_file)},
                     {"cycles", s.cycles},
                     {"first_cycle", s.first_cycle},
                     {"last_cycle", s.last_cycle},

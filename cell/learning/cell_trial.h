@@ -13,7 +13,11 @@
 //   s<k>.xyz           per stage, the tracked position of every vertex averaged over the settled
 //                      window, "nan nan nan" where the cameras did not see it
 //   observations.json  per stage: cycles averaged, coverage, the tracker's scatter per cycle and
-//                      of the mean, drift, cycle ids (what a reader needs to weigh the stages)
+//                      of the mean, drift, cycle ids (what a reader needs to weigh the stages),
+//                      and truth_file (fake hardware, else null)
+//   truth/s<k>.xyz     fake hardware only: the world's true sheet at the state, on the world's
+//                      own mesh (SIM_SHEET_TRUTH's vertices; sim_hw truth_trial maps it onto the
+//                      markers)
 //
 // What the trial format cannot carry: the jaws' orientation (a trial's clamps are level). A cell
 // whose ply lies rotated in its placement holds it turned; its trial's stages are then solved

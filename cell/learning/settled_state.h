@@ -34,6 +34,10 @@ struct SettledObservation {
   double moved_at_s = 0.0;  // when the grasps last moved or changed before it (s)
   // Median distance (m) between the means of the window's two halves: how still it was.
   double drift_m = 0.0;
+  // Fake hardware only: the world's true sheet (SIM_SHEET_TRUTH, its own mesh's vertices, m) as
+  // the window ended, so that what the tracker saw can be told from what was there
+  // (sim_hw truth_trial). Empty on a real cell.
+  std::vector<twin::Vec3> truth_m;
 };
 
 struct SettleOptions {

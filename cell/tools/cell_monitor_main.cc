@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
       if (printed++ % every == 0) fmt::print("{}\n", cell::format_cycle(r));
       std::fflush(stdout);
     };
+    sinks.calibration = [](const cell::CalibrationEvent& e) {
+      fmt::print("{}\n", cell::format_calibration(e));
+      std::fflush(stdout);
+    };
     sinks.state_change = [](const cell::StateChange& c) {
       fmt::print("{}\n", cell::format_state_change(c));
       std::fflush(stdout);

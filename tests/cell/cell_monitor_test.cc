@@ -32,7 +32,7 @@ struct Harness {
   CellMonitor monitor{
       bus, cell::MonitorOptions{},
       cell::MonitorSinks{[this](const CycleRecord& r) { records.push_back(r); },
-                         [this](const cell::StateChange& c) { changes.push_back(c); }},
+                         [this](const cell::StateChange& c) { changes.push_back(c); }, {}},
       [this] { return clock_us; }};
 
   void dispatch() {
@@ -240,4 +240,44 @@ TEST_CASE("a cell restart starts a new run of cycle ids", "[monitor]") {
   CHECK(s.first_id() == 0);
   CHECK(s.last_id() == 1);
   CHECK_THAT(cell::format_summary(s, h.bus.counters()), Catch::Contains("cell restarts: 1"));
+}
+
+TEST_CASE("calibration events are shown as they come and listed in the summary; a malformed one is dropped",
+          "[monitor]") {
+  Harness h;
+  std::vector<cell::CalibrationEvent> seen;
+  drivers::LcmBus bus{"memq://"};
+  cell::MonitorSinks sinks;
+  sinks.calibration = [&](const cell::CalibrationEvent& e) { seen.push_back(e); };
+  CellMonitor monitor(bus, cell::MonitorOptions{}, sinks);
+  prepreg_lcm::calibration_t m{};
+  m.utime = kStart_us;
+  m.calibration_id = 2;
+  m.verdict = "refused";
+  m.reason = "no better on the held-out state";
+  m.num_parameters = 1;
+  m.parameter_names = {"bending_Nm"};
+  m.values = {6e-3};
+  m.lower95 = {4e-3};
+  m.upper95 = {9e-3};
+  m.determined = {true};
+  m.held_out_error_before_m = 0.0124;
+  m.held_out_error_after_m = 0.0145;
+  m.states_fitted = 3;
+  m.states_held_out = 1;
+  m.simulations = 15;
+  m.seconds = 102.0;
+  REQUIRE(bus.publish(std::string(ch::kCellCalibration), m));
+  prepreg_lcm::calibration_t bad = m;
+  bad.values = {1e-2};  // outside its own interval: decodes, fails its check, never shown
+  const auto bytes = testing_support::encode_message(bad);
+  REQUIRE(bus.publish_raw(std::string(ch::kCellCalibration), bytes.data(), bytes.size()));
+  while (bus.handle_for(std::chrono::milliseconds(0)).messages > 0) {
+  }
+  REQUIRE(seen.size() == 1);
+  CHECK(cell::format_calibration(seen[0]) ==
+        "calibration 2: refused (3 states fitted, 102.0 s), held-out state 12.4 -> 14.5 mm mean; bending_Nm 0.006 "
+        "[0.004, 0.009]: no better on the held-out state");
+  CHECK_THAT(cell::format_summary(monitor.summary(), bus.counters()), Catch::Contains("calibrations: 1\n    calibration 2"));
+  CHECK(bus.counters().rejected == 1);
 }
