@@ -16,6 +16,7 @@
 #include "drivers/lcm_channels.h"
 #include <prepreg_lcm/calibration_t.hpp>
 #include "twin/base/atomic_file.h"
+#include "twin/base/cancellation.h"
 #include "twin/model/material_parameters.h"
 
 namespace cell {
@@ -124,9 +125,11 @@ void CellController::start_calibration() {
   options.cancelled = [flag = calibration_cancelled_] { return flag->load(); };
   calibration_job_ = calibration_worker_.submit(
       [id, directory = base / fmt::format("calibration_{}", id), states, mesh = twin_->mesh(), plan = plan_,
-       material = material_, options] {
+       material = material_, options, flag = calibration_cancelled_] {
         // One thread: the cycle and the twin have the cores; this takes what they leave.
         omp_set_num_threads(1);
+        // A cell that stops ends the fit within one Newton iteration (twin/base/cancellation.h).
+        const twin::CancellationScope cancellation(flag.get());
         CalibrationJob job;
         job.id = id;
         job.directory = directory.string();

@@ -36,6 +36,9 @@ RigFiles default_files() {
   f.config["twin"] = {{"material_file", "material.json"},
                       {"sheet", {{"width_m", 1.17}, {"height_m", 0.975}, {"target_triangles", 800}}}};
   f.config["job"] = {{"plan_file", "plan.json"}};
+  // Settled states are recorded; calibrations (minutes of background fitting) only where a test
+  // asks for them.
+  f.config["learning"] = {{"calibrate", false}};
   for (auto& c : f.config["cameras"]) {
     c["backend"] = "test_sim";
     c["uri"] = "";  // the scene comes from the rig, not a file

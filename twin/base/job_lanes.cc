@@ -1,4 +1,5 @@
 #include "twin/base/job_lanes.h"
+#include "twin/base/cancellation.h"
 
 #include <omp.h>
 
@@ -58,8 +59,11 @@ void run_lanes(int max_lanes, JobQueue& queue, const std::function<void()>& lead
     std::lock_guard<std::mutex> lock(failure_mutex);
     return failure != nullptr;
   };
+  // The lanes honour the caller's cancellation (cancellation.h): the flag is thread-local.
+  const std::atomic<bool>* cancel = current_cancellation_flag();
 #pragma omp parallel num_threads(lanes)
   {
+    const CancellationScope cancellation(cancel);
     const int lane = omp_get_thread_num();
     if (lane == 0) {
       try {

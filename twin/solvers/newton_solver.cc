@@ -1,4 +1,5 @@
 #include "twin/solvers/newton_solver.h"
+#include "twin/base/cancellation.h"
 
 #include <chrono>
 #include <cmath>
@@ -88,6 +89,7 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
       return finish(SolveStatus::kNonFinite, fmt::format("at iteration {}", report.iterations));
     }
     if (report.residual < options.residual_tolerance) return finish(SolveStatus::kConverged, "");
+    if (cancellation_requested()) return finish(SolveStatus::kCancelled, fmt::format("at iteration {}", report.iterations));
     if (report.iterations >= options.max_iterations) {
       if (options.accept_iteration_budget && report.iterations > 0) {
         return finish(SolveStatus::kIterationBudget, "");

@@ -13,6 +13,7 @@ const char* to_string(SolveStatus status) {
     case SolveStatus::kNonFinite: return "non-finite energy or force";
     case SolveStatus::kIndefinite: return "system not positive definite after shifting";
     case SolveStatus::kBlowUp: return "velocity blow-up";
+    case SolveStatus::kCancelled: return "cancelled";
   }
   return "unknown";
 }

@@ -15,6 +15,7 @@ enum class SolveStatus {
   kNonFinite,           // NaN or infinity in energy or forces (diverged or degenerate triangle)
   kIndefinite,          // no positive-definite system even after shifting
   kBlowUp,              // a dynamic step produced implausible velocities
+  kCancelled,           // the caller asked to stop (twin/base/cancellation.h)
 };
 
 const char* to_string(SolveStatus status);

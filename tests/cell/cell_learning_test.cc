@@ -1,0 +1,89 @@
+// The controller's learning (cell/cell_learning.cc) on the in-process cell: settled states of
+// each way the grasps hold the ply, the observed trial, a calibration in the background that
+// ends in a CELL_CALIBRATION message and a report, and the adopted material swapped into the
+// twin. The rig's sheet does not follow the grasps (its cameras render one equilibrium), so what
+// the fit finds is not the point here: tests/cell/learning/ judge fits on the independent sheet.
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "cell/learning/in_situ_calibration.h"
+#include "tests/cell/cell_fixture.h"
+#include "twin/trials/trial.h"
+
+using cell::CellState;
+
+TEST_CASE("the cell records settled states, writes them as a trial and publishes a calibration of them", "[cell]") {
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["tracker"]["fusion"] = {{"pixel_stride", 4}};
+  f.config["learning"] = {{"calibrate", true},
+                          {"window_s", 0.4},
+                          {"min_still_s", 0.3},
+                          {"max_evaluations", 2},
+                          {"parameters", {"bending_Nm"}}};
+  cell_test::CellUnderTest t(f);
+  std::vector<prepreg_lcm::calibration_t> messages;
+  t.bus.subscribe<prepreg_lcm::calibration_t>(std::string(drivers::channels::kCellCalibration),
+                                              [&](const auto& m) { messages.push_back(m); });
+  t.controller->set_learning_directory((t.dir / "learning").string());
+  REQUIRE(t.controller->startup() == CellState::kReady);
+  const auto states = [&] { return t.controller->settled_states().states().size(); };
+
+  // 1. As loaded.
+  t.run(300, [&](const cell::CycleReport&) { return states() >= 1; });
+  REQUIRE(states() == 1);
+  // 2. CENTER raised 1 cm: a new way of holding the ply, once it has settled.
+  const twin::GraspPlan& plan = t.controller->plan();
+  const twin::Vec3 centre = plan.grasps[plan.index_of("CENTER")].hold_position_m;
+  REQUIRE(t.controller->set_goal("CENTER", centre + twin::Vec3(0, 0, 0.01)));
+  t.run(300, [&](const cell::CycleReport&) { return states() >= 2; });
+  REQUIRE(states() == 2);
+  // 3. MANUAL let go.
+  REQUIRE(t.controller->request_release("MANUAL"));
+  t.run(300, [&](const cell::CycleReport&) { return states() >= 3; });
+  REQUIRE(states() == 3);
+  const auto& recorded = t.controller->settled_states().states();
+  CHECK(recorded[0].engaged == std::vector<char>{1, 1, 1, 1});
+  CHECK(recorded[1].grasp_positions_m[plan.index_of("CENTER")].z() == Approx(centre.z() + 0.01).margin(0.003));
+  CHECK(recorded[2].engaged[plan.index_of("MANUAL")] == 0);
+  CHECK(recorded[2].coverage > 0.5);
+
+  // The observed trial reads back as a trial of those states.
+  REQUIRE(t.controller->write_observed_trial((t.dir / "observed").string()).empty());
+  const twin::Trial trial = twin::read_trial((t.dir / "observed").string());
+  CHECK(trial.stages.size() == 3);
+  CHECK_FALSE(trial.stages[2].poses[plan.index_of("MANUAL")].engaged);
+
+  // The third state started a calibration (two fitted, one held out): it finishes in the
+  // background while cycles go on (slowly here, to leave it the CPU).
+  for (int i = 0; i < 3000 && t.controller->calibrations() == 0; ++i) {
+    t.controller->cycle();
+    t.controller->handle_bus(0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  REQUIRE(t.controller->calibrations() == 1);
+  const cell::learning::CalibrationResult& c = *t.controller->last_calibration();
+  INFO(c.reason);
+  CHECK(c.verdict != cell::learning::CalibrationVerdict::kFailed);
+  CHECK(c.fitted_states == 2);
+  t.controller->handle_bus(0);
+  REQUIRE(messages.size() == 1);
+  CHECK(messages[0].calibration_id == 1);
+  CHECK(messages[0].verdict == cell::learning::verdict_name(c.verdict));
+  CHECK(messages[0].num_parameters == 1);
+  CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "report.md"));
+  CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "trial" / "trial.json"));
+  if (c.verdict == cell::learning::CalibrationVerdict::kAdopted) {
+    CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "material.json"));
+    // The twin takes it up on its worker within a few cycles.
+    t.run(100, [&](const cell::CycleReport&) {
+      return t.controller->material().bending_rigidity_u_Nm == c.candidate.bending_rigidity_u_Nm;
+    });
+    CHECK(t.controller->material().bending_rigidity_u_Nm == c.candidate.bending_rigidity_u_Nm);
+    CHECK(t.controller->material_swap_problem().empty());
+  } else {
+    CHECK_FALSE(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "material.json"));
+  }
+  CHECK(t.controller->state() != CellState::kSafeHold);
+}
