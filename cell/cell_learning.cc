@@ -7,6 +7,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -17,6 +18,7 @@
 #include <prepreg_lcm/calibration_t.hpp>
 #include "twin/base/atomic_file.h"
 #include "twin/base/cancellation.h"
+#include "twin/diagnosis/svg_figures.h"
 #include "twin/model/material_parameters.h"
 
 namespace cell {
@@ -78,7 +80,28 @@ std::string calibration_report(std::int64_t id, const learning::CalibrationResul
   };
   s += fmt::format("- current material: {}\n- candidate: {}\n", scores(r.before), scores(r.after));
   if (!material_file.empty()) s += fmt::format("- written: {}\n", material_file);
+  if (!r.before.stage_mean_m.empty() || !r.after.stage_mean_m.empty()) {
+    s += "\n![mean error per state, current material and candidate](states.svg)\n";
+  }
   return s;
+}
+
+// states.svg: per state, the mean vertex error with the current material and the candidate; the
+// held-out state is the last, labelled so.
+std::string states_figure(const learning::CalibrationResult& r, const std::vector<learning::SettledObservation>& states) {
+  std::vector<twin::diagnosis::BarGroup> groups;
+  double noise_mm = 0.0;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    twin::diagnosis::BarGroup g;
+    g.label = fmt::format("s{}{}", k + 1, k + 1 == states.size() ? " (held out)" : "");
+    for (const learning::StateScores* x : {&r.before, &r.after}) {
+      g.values.push_back(k < x->stage_mean_m.size() ? 1e3 * x->stage_mean_m[k] : std::nan(""));
+    }
+    groups.push_back(std::move(g));
+    noise_mm = std::max(noise_mm, 1e3 * states[k].mean_noise_m);
+  }
+  return twin::diagnosis::bar_chart_svg("mean vertex error per settled state (mm)", {"current material", "candidate"},
+                                        groups, noise_mm, "tracker scatter of a state's mean");
 }
 
 }  // namespace
@@ -142,6 +165,10 @@ void CellController::start_calibration() {
             twin::write_material_file(job.material_file, job.result.candidate);
           }
           const std::string report = calibration_report(id, job.result, material, job.material_file);
+          if (!job.result.before.stage_mean_m.empty() || !job.result.after.stage_mean_m.empty()) {
+            const std::string figure = states_figure(job.result, states);
+            twin::write_file_atomically(directory / "states.svg", [&](std::ostream& out) { out << figure; });
+          }
           twin::write_file_atomically(directory / "report.md", [&](std::ostream& out) { out << report; });
         } catch (const std::exception& e) {  // a file not written, a trial the twin cannot take
           job.result.verdict = learning::CalibrationVerdict::kFailed;

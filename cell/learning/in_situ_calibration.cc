@@ -62,9 +62,13 @@ StateScores score_states(const twin::Trial& trial, const twin::Material& materia
     const std::vector<twin::Vec3>& seen = trial.stages[k].observed.markers_m;
     const std::vector<twin::Vec3>& predicted = fit.stages[k].predicted_markers_m;
     const bool last = k + 1 == trial.stages.size();
+    double stage_sum_m = 0.0;
+    int stage_seen = 0;
     for (std::size_t m = 0; m < seen.size() && m < predicted.size(); ++m) {
       if (!seen[m].allFinite()) continue;
       const double d = (predicted[m] - seen[m]).norm();
+      stage_sum_m += d;
+      ++stage_seen;
       if (last) {
         s.held_out_mean_m += d;
         s.held_out_max_m = std::max(s.held_out_max_m, d);
@@ -74,6 +78,7 @@ StateScores score_states(const twin::Trial& trial, const twin::Material& materia
         coordinates += 3;
       }
     }
+    s.stage_mean_m.push_back(stage_seen > 0 ? stage_sum_m / stage_seen : std::nan(""));
   }
   if (held_out == 0 || coordinates == 0) {
     s.failure = "a stage has no seen marker to score";

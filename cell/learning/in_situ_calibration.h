@@ -44,6 +44,7 @@ struct StateScores {
   std::string failure;  // "" when every stage simulated
   double held_out_mean_m = 0.0, held_out_max_m = 0.0;  // seen markers of the last stage
   double fitted_rms_m = 0.0;  // the other stages' marker residual, RMS per coordinate
+  std::vector<double> stage_mean_m;  // per stage, mean distance of its seen markers (m)
 };
 
 enum class CalibrationVerdict { kAdopted, kRefused, kFailed };

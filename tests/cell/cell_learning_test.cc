@@ -73,6 +73,7 @@ TEST_CASE("the cell records settled states, writes them as a trial and publishes
   CHECK(messages[0].verdict == cell::learning::verdict_name(c.verdict));
   CHECK(messages[0].num_parameters == 1);
   CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "report.md"));
+  CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "states.svg"));
   CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "trial" / "trial.json"));
   if (c.verdict == cell::learning::CalibrationVerdict::kAdopted) {
     CHECK(std::filesystem::exists(t.dir / "learning" / "calibration_1" / "material.json"));
