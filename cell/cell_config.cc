@@ -56,7 +56,18 @@ bool boolean(const twin::JsonField& v) {
 
 void read_learning_settings(const twin::JsonField& f, LearningSettings& s) {
   f.only_keys({"record_states", "calibrate", "window_s", "min_still_s", "max_states", "min_gain", "max_evaluations",
-               "parameters"});
+               "parameters", "follow_branches", "reseed_min_error_m", "reseed_min_gain", "priority"});
+  if (auto v = f.optional("priority")) {
+    const std::optional<WorkerPriority> priority = worker_priority_from_name(v->string());
+    if (!priority) v->fail("must be \"idle\" or \"normal\"");
+    s.priority = *priority;
+  }
+  if (auto v = f.optional("follow_branches")) s.follow_branches = boolean(*v);
+  if (auto v = f.optional("reseed_min_error_m")) s.reseed_min_error_m = v->positive("m");
+  if (auto v = f.optional("reseed_min_gain")) {
+    s.reseed_min_gain = v->non_negative("");
+    if (s.reseed_min_gain >= 1.0) v->fail("must be in [0, 1)");
+  }
   if (auto v = f.optional("record_states")) s.record_states = boolean(*v);
   if (auto v = f.optional("calibrate")) s.calibrate = boolean(*v);
   if (auto v = f.optional("window_s")) s.settle.window_s = v->positive("s");
@@ -79,6 +90,9 @@ void read_learning_settings(const twin::JsonField& f, LearningSettings& s) {
     }
   }
   if (s.calibrate && !s.record_states) f.fail_child("calibrate", "needs record_states (it fits the recorded states)");
+  if (s.follow_branches && !s.record_states) {
+    f.fail_child("follow_branches", "needs record_states (it re-seeds from a settled state)");
+  }
 }
 
 }  // namespace

@@ -48,8 +48,16 @@
 //                "max_states": 16,                  (states kept; the oldest go first)
 //                "min_gain": 0.1,                   (the held-out error must fall by this fraction)
 //                "max_evaluations": 12,             (of each fit)
-//                "parameters": ["tensile_N_m", "shear_N_m", "bending_Nm"]}  (fitted, by the
+//                "parameters": ["tensile_N_m", "shear_N_m", "bending_Nm"],  (fitted, by the
 //                                                    names of material files)
+//                "follow_branches": true,           (re-seed the twin from a settled state it
+//                                                    misses by more than reseed_min_error_m when
+//                                                    that brings it nearer by reseed_min_gain)
+//                "reseed_min_error_m": 0.005, "reseed_min_gain": 0.3,
+//                "priority": "idle"}                ("idle": calibrations and branch candidates run
+//                                                    under SCHED_IDLE, on CPU nothing else wants;
+//                                                    "normal": beside the cycle, which they then
+//                                                    slow down)
 // Paths are relative to the config file's folder. Errors throw std::invalid_argument (or
 // std::runtime_error for an unreadable file) naming the file and the field.
 #include <string>
@@ -88,6 +96,10 @@ struct LearningSettings {
   learning::SettleOptions settle;
   int max_states = 16;
   learning::CalibrationOptions calibration;
+  bool follow_branches = true;
+  double reseed_min_error_m = 0.005;
+  double reseed_min_gain = 0.3;
+  WorkerPriority priority = WorkerPriority::kIdle;
 };
 
 struct CellConfig {

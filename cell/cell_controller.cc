@@ -33,6 +33,8 @@ CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fau
       fault_injection_(fault_injection),
       tracker_(without_calibration_check(config_.tracker)),
       calibration_(config_.tracker.calibration),
+      calibration_worker_(config_.learning.priority),
+      branch_worker_(config_.learning.priority),
       twin_worker_(config_.cell.twin_priority) {
   status_.cameras = static_cast<int>(config_.cameras.size());
   subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sheet_state_t>(

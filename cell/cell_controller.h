@@ -25,6 +25,7 @@
 #include "cell/calibration_monitor.h"
 #include "cell/cell_twin.h"
 #include "cell/cycle_pacer.h"
+#include "cell/learning/branch_following.h"
 #include "cell/learning/in_situ_calibration.h"
 #include "cell/learning/settled_state.h"
 #include "cell/robot_link.h"
@@ -122,6 +123,12 @@ class CellController {
   const std::optional<learning::CalibrationResult>& last_calibration() const { return last_calibration_; }
   // The material the twin runs (the config's, or the latest adopted calibration once swapped in).
   const twin::Material& material() const { return material_; }
+  // Branch following: re-seeds taken, and the latest attempt (nullopt before the first).
+  int twin_reseeds() const { return status_.twin_reseeds; }
+  int reseed_attempts() const { return reseed_attempts_; }
+  // The latest attempt's candidate (its distances, or why none) and whether the twin took it.
+  const std::optional<learning::BranchCandidate>& last_reseed() const { return last_reseed_; }
+  bool last_reseed_taken() const { return last_reseed_taken_; }
   // Why the latest adopted material could not go into the twin ("" when it did, or none yet).
   const std::string& material_swap_problem() const { return material_swap_problem_; }
 
@@ -143,6 +150,8 @@ class CellController {
   void learn_from_cycle(const CycleReport& report);
   void collect_calibration();
   void start_calibration();
+  void consider_reseed(const learning::SettledObservation& state);
+  void collect_branch_job();
 
   CellConfig config_;
   CyclePacer pacer_;
@@ -185,6 +194,7 @@ class CellController {
     double dt_s = 0;
     std::string initialise_problem;  // of the re-initialisation, empty when it worked
     bool swapped = false;            // the job took up pending_material_
+    bool reseeded = false;           // the job took up pending_state_ (branch following)
     std::int64_t state_utime = 0;    // the time its state is for
   };
   std::future<TwinWork> twin_work_;  // valid while the twin's worker has a job of ours
@@ -195,6 +205,20 @@ class CellController {
   std::int64_t calibrated_at_added_ = 0;  // settled_states_.added() when the last calibration started
   std::string learning_dir_;
   std::optional<twin::Material> pending_material_;  // adopted, not yet in the twin
+  // Branch following (cell_learning.cc): a candidate equilibrium near the settled sheet, found on
+  // branch_worker_, and the state the twin's worker is to continue from.
+  struct BranchJob {
+    learning::BranchCandidate candidate;
+    std::int64_t added = 0;                      // settled_states_.added() when it started
+    std::vector<twin::Vec3> grasp_positions_m;  // the state's grasps
+    std::vector<char> engaged;
+  };
+  std::future<BranchJob> branch_job_;
+  std::optional<twin::VecX> pending_state_;
+  std::int64_t reseed_tried_at_added_ = 0;  // settled_states_.added() at the last attempt
+  std::optional<learning::BranchCandidate> last_reseed_;  // without its x
+  bool last_reseed_taken_ = false;
+  int reseed_attempts_ = 0;
   std::string material_swap_problem_;  // why the last adopted material did not go in ("" if it did)
   int calibrations_ = 0, calibrations_adopted_ = 0;
   std::optional<learning::CalibrationResult> last_calibration_;
@@ -205,8 +229,10 @@ class CellController {
   };
   std::future<CalibrationJob> calibration_job_;
   std::shared_ptr<std::atomic<bool>> calibration_cancelled_ = std::make_shared<std::atomic<bool>>(false);
-  // Runs calibrations at idle priority: only on CPU the cycle and the twin leave.
-  BackgroundWorker calibration_worker_{WorkerPriority::kIdle};
+  // Run calibrations and branch candidates, by default at idle priority: only on CPU the cycle and
+  // the twin leave (two workers: a candidate is seconds, a calibration minutes).
+  BackgroundWorker calibration_worker_;  // at config learning.priority (idle by default)
+  BackgroundWorker branch_worker_;
   // Runs the twin's step beside the tracker (cell_cycle.cc). Declared last, so it is destroyed
   // (finishing any step it runs) before the twin is.
   BackgroundWorker twin_worker_;

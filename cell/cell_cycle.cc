@@ -63,7 +63,7 @@ void CellController::update_releases(std::int64_t now_us) {
 void CellController::submit_twin_work() {
   // One step from the cycle the twin's state is for to the next cycle, with the clamps where
   // the grippers are (measured); after a failure, a fresh static equilibrium there instead.
-  const bool step = twin_problem_.empty() && !pending_material_;
+  const bool step = twin_problem_.empty() && !pending_material_ && !pending_state_;
   const std::int64_t next_cycle = status_.cycle + 1;
   const double dt_s = static_cast<double>(std::max<std::int64_t>(next_cycle - twin_cycle_, 1)) * period_s();
   twin_cycle_ = next_cycle;
@@ -72,8 +72,13 @@ void CellController::submit_twin_work() {
   // A newly adopted material goes in with a static equilibrium under it (cell_twin.h), from
   // the twin's state when it is healthy.
   std::optional<twin::Material> material;
-  if (twin_problem_.empty()) material = std::exchange(pending_material_, std::nullopt);
-  twin_work_ = twin_worker_.submit([this, step, dt_s, state_utime, omp_threads, material, grasps = grasp_positions()] {
+  std::optional<twin::VecX> reseed;
+  if (twin_problem_.empty()) {
+    material = std::exchange(pending_material_, std::nullopt);
+    if (!material) reseed = std::exchange(pending_state_, std::nullopt);
+  }
+  twin_work_ = twin_worker_.submit([this, step, dt_s, state_utime, omp_threads, material, reseed,
+                                    grasps = grasp_positions()] {
     omp_set_num_threads(omp_threads);
     TwinWork work;
     work.stepped = step;
@@ -84,6 +89,9 @@ void CellController::submit_twin_work() {
     } else if (material) {
       work.swapped = true;
       work.initialise_problem = twin_->set_material(*material, grasps);
+    } else if (reseed) {
+      work.reseeded = true;
+      twin_->adopt_state(*reseed);
     } else {
       work.initialise_problem = twin_->initialise(grasps);
     }
@@ -104,6 +112,11 @@ void CellController::collect_twin_work(CycleReport& report) {
     } else {
       twin_problem_ = work.step.message;
     }
+  } else if (work.reseeded) {
+    ++status_.twin_reseeds;
+    prediction_ = twin_->positions();
+    prediction_utime_ = work.state_utime;
+    tracker_.forget_last_track();
   } else if (work.swapped && !work.initialise_problem.empty()) {
     // The twin kept its material and state (cell_twin.h): it stays healthy; the cell says why.
     material_swap_problem_ = work.initialise_problem;

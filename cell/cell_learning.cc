@@ -109,6 +109,7 @@ std::string states_figure(const learning::CalibrationResult& r, const std::vecto
 void CellController::learn_from_cycle(const CycleReport& report) {
   if (!config_.learning.record_states || !twin_) return;
   collect_calibration();
+  collect_branch_job();
   if (!settled_detector_) {
     settled_detector_ = std::make_unique<learning::SettledStateDetector>(
         twin_->mesh().vertex_count(), static_cast<int>(plan_.grasps.size()), config_.cell.cycle_hz,
@@ -129,8 +130,68 @@ void CellController::learn_from_cycle(const CycleReport& report) {
     const std::int64_t truth_age_us = drivers::host_clock_us() - truth_host_us_;
     if (!truth_.empty() && truth_host_us_ > 0 && truth_age_us < 1'000'000) state->truth_m = truth_;
     settled_states_.add(std::move(*state));
+    consider_reseed(settled_states_.states().back());
   }
   start_calibration();
+}
+
+void CellController::consider_reseed(const learning::SettledObservation& state) {
+  if (!config_.learning.follow_branches || branch_job_.valid() || pending_state_ || !twin_problem_.empty()) return;
+  // Once per way of holding the sheet: a refused attempt is not repeated every window.
+  if (settled_states_.added() == reseed_tried_at_added_) return;
+  // How far the twin's newest prediction is from the settled sheet, over the vertices kept.
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < state.vertices_m.size(); ++i) {
+    if (!state.vertices_m[i].allFinite() || prediction_.size() < 3 * static_cast<Eigen::Index>(i) + 3) continue;
+    sum += (prediction_.segment<3>(3 * static_cast<Eigen::Index>(i)) - state.vertices_m[i]).norm();
+    ++count;
+  }
+  const double error_m = count > 0 ? sum / count : 0.0;
+  if (!(error_m > std::max(config_.learning.reseed_min_error_m, 5.0 * state.mean_noise_m))) return;
+  reseed_tried_at_added_ = settled_states_.added();
+  std::vector<twin::ClampPose> poses(plan_.grasps.size());
+  for (std::size_t g = 0; g < poses.size(); ++g) {
+    poses[g].position_m = state.grasp_positions_m[g];
+    poses[g].rotation = twin_->jaw_rotation();
+    poses[g].engaged = state.engaged[g] != 0;
+  }
+  branch_job_ = branch_worker_.submit([mesh = twin_->mesh(), material = material_, clamps = plan_.clamp_specs(), poses,
+                                       current = prediction_, observed = state.vertices_m,
+                                       added = settled_states_.added(), grasps = state.grasp_positions_m,
+                                       engaged = state.engaged, flag = calibration_cancelled_] {
+    omp_set_num_threads(1);
+    const twin::CancellationScope cancellation(flag.get());
+    BranchJob job;
+    job.candidate = learning::equilibrium_near_observation(mesh, material, clamps, poses, current, observed);
+    job.added = added;
+    job.grasp_positions_m = grasps;
+    job.engaged = engaged;
+    return job;
+  });
+}
+
+void CellController::collect_branch_job() {
+  if (!branch_job_.valid() || branch_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  BranchJob job;
+  try {
+    job = branch_job_.get();
+  } catch (const std::exception& e) {
+    job.candidate.problem = e.what();
+  }
+  ++reseed_attempts_;
+  // Taken only for the way the sheet is still held: no new settled state since, the engaged
+  // grasps within 5 mm of where they were, none released or gripped.
+  bool same = job.added == settled_states_.added();
+  const std::vector<twin::Vec3> now = grasp_positions();
+  for (std::size_t g = 0; same && g < now.size(); ++g) {
+    same = (twin_->engaged(static_cast<int>(g)) ? 1 : 0) == job.engaged[g] &&
+           (!job.engaged[g] || (now[g] - job.grasp_positions_m[g]).norm() <= 0.005);
+  }
+  last_reseed_taken_ = same && job.candidate.better(config_.learning.reseed_min_gain);
+  if (last_reseed_taken_) pending_state_ = std::move(job.candidate.x);
+  job.candidate.x.resize(0);
+  last_reseed_ = std::move(job.candidate);
 }
 
 void CellController::start_calibration() {

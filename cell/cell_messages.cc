@@ -106,6 +106,7 @@ prepreg_lcm::cell_state_t cell_state(std::int64_t utime, const CellStatus& s) {
   m.grippers_ok = s.grippers_ok;
   m.num_cameras_ok = static_cast<std::int8_t>(std::clamp(s.cameras_fresh, 0, 127));
   m.num_cameras = static_cast<std::int8_t>(std::clamp(s.cameras, 0, 127));
+  m.twin_reseeds = s.twin_reseeds;
   return m;
 }
 

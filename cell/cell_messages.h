@@ -49,6 +49,7 @@ struct CellStatus {
   std::int64_t cycle = -1;
   bool cameras_ok = false, tracker_ok = false, twin_ok = false, robots_ok = false, grippers_ok = false;
   int cameras_fresh = 0, cameras = 0;
+  int twin_reseeds = 0;  // branch following (cell_learning.cc)
 };
 prepreg_lcm::cell_state_t cell_state(std::int64_t utime, const CellStatus& s);
 

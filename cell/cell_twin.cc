@@ -16,6 +16,7 @@ CellTwin::CellTwin(const twin::SheetMesh& mesh, const twin::Material& material,
   v_ = twin::VecX::Zero(x_.size());
   // The jaws close on the flat ply, so each clamp holds its patch turned as the ply lies.
   for (auto& p : poses_) p.rotation = placement.rotation;
+  jaw_rotation_ = placement.rotation;
   // Only for the clamp effects the material has (model_effects.h): grip springs' couplings to a
   // released clamp's host triangle would otherwise fill in every factorisation for nothing.
   model_->set_clamps_of_material_effects(clamps_);
@@ -62,6 +63,13 @@ std::string CellTwin::set_material(const twin::Material& material, const std::ve
     stepper_ = std::make_unique<twin::ImplicitStepper>(*model_);
   }
   return problem;
+}
+
+void CellTwin::adopt_state(const twin::VecX& x) {
+  if (x.size() != x_.size() || !x.allFinite()) return;
+  x_ = x;
+  v_.setZero();
+  stepper_ = std::make_unique<twin::ImplicitStepper>(*model_);
 }
 
 TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m) {

@@ -44,6 +44,12 @@ class CellTwin {
   std::string set_material(const twin::Material& material, const std::vector<twin::Vec3>& grasp_positions_m);
   const twin::Material& material() const { return model_->material(); }
 
+  // Branch following (cell/learning/branch_following.h): the twin continues from `x` (3n, m),
+  // an equilibrium found near the settled sheet the cameras saw, at rest.
+  void adopt_state(const twin::VecX& x);
+  // How the clamps hold their patches (turned as the ply lay flat; fixed at construction).
+  const twin::Mat3& jaw_rotation() const { return jaw_rotation_; }
+
   // One dynamic step of dt_s with the clamps moved to grasp_positions_m.
   TwinStepResult step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m);
 
@@ -73,6 +79,7 @@ class CellTwin {
   twin::VecX x_, v_;
   std::unique_ptr<twin::StaticSolver> statics_;
   std::unique_ptr<twin::ImplicitStepper> stepper_;
+  twin::Mat3 jaw_rotation_ = twin::Mat3::Identity();
   bool initialised_ = false;
   std::atomic<bool> poisoned_{false};
   std::atomic<int> stall_ms_{0};

@@ -133,6 +133,7 @@ std::string message_problem(const prepreg_lcm::cell_state_t& msg) {
   return first(
       state_problem("state", msg.state, T::STATE_STARTING, T::STATE_STOPPED),
       msg.cycle_id < -1 ? std::string("cycle_id < -1") : std::string(),
+      msg.twin_reseeds < 0 ? "twin_reseeds = " + std::to_string(msg.twin_reseeds) + " < 0" : std::string(),
       (msg.num_cameras < 0 || msg.num_cameras_ok < 0 || msg.num_cameras_ok > msg.num_cameras)
           ? "num_cameras_ok = " + std::to_string(msg.num_cameras_ok) + ", num_cameras = " +
                 std::to_string(msg.num_cameras) + ", expected 0 <= ok <= cameras"

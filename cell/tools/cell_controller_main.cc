@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   double error_mean = 0, error_max = 0;
   int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
   bool experiment_printed = false;
-  int calibrations_printed = 0;
+  int calibrations_printed = 0, reseeds_printed = 0;
   while (!g_stop) {
     const std::int64_t cycle_start_us = drivers::host_clock_us();
     const cell::CycleReport r = cell.cycle();
@@ -141,6 +141,16 @@ int main(int argc, char** argv) {
       latency.clear();
       twin_ms.clear();
       max_substeps = 0;
+    }
+    if (cell.reseed_attempts() > reseeds_printed) {
+      reseeds_printed = cell.reseed_attempts();
+      const cell::learning::BranchCandidate& rs = *cell.last_reseed();
+      fmt::print("{:8.1f} s  branch following: {} ({:.1f} mm mean from the settled sheet, {:.1f} mm from the "
+                 "equilibrium found near it){}{}\n",
+                 std::chrono::duration<double>(now - start).count(),
+                 cell.last_reseed_taken() ? "twin re-seeded from the tracked sheet" : "twin kept its state",
+                 1e3 * rs.before_m, 1e3 * rs.after_m, rs.problem.empty() ? "" : ": ", rs.problem);
+      std::fflush(stdout);
     }
     if (cell.calibrations() > calibrations_printed) {
       calibrations_printed = cell.calibrations();
