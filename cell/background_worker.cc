@@ -30,38 +30,56 @@ std::optional<WorkerPriority> worker_priority_from_name(const std::string& name)
   return std::nullopt;
 }
 
-BackgroundWorker::BackgroundWorker(WorkerPriority priority)
-    : priority_(priority), thread_([this] { run(); }) {}
+BackgroundWorker::BackgroundWorker(WorkerPriority priority) {
+  std::promise<std::string> priority_set;
+  priority_problem_ = priority_set.get_future().share();
+  thread_ = std::thread(&BackgroundWorker::run, state_, priority, std::move(priority_set));
+}
 
 std::string BackgroundWorker::priority_problem() { return priority_problem_.get(); }
 
 BackgroundWorker::~BackgroundWorker() {
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
+    std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->stopping = true;
   }
-  wake_.notify_one();
-  thread_.join();
+  state_->wake.notify_one();
+  if (thread_.joinable()) thread_.join();
+}
+
+bool BackgroundWorker::finish_or_let_go(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(state_->mutex);
+  state_->jobs.clear();
+  if (state_->idle.wait_for(lock, timeout, [this] { return !state_->running; })) return true;
+  state_->stopping = true;  // it ends after its task; the state lives as long as it does
+  lock.unlock();
+  state_->wake.notify_one();
+  if (thread_.joinable()) thread_.detach();
+  return false;
 }
 
 void BackgroundWorker::enqueue(std::function<void()> job) {
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    jobs_.push_back(std::move(job));
+    std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->jobs.push_back(std::move(job));
   }
-  wake_.notify_one();
+  state_->wake.notify_one();
 }
 
-void BackgroundWorker::run() {
-  priority_set_.set_value(apply_to_this_thread(priority_));
+void BackgroundWorker::run(std::shared_ptr<State> state, WorkerPriority priority,
+                           std::promise<std::string> priority_set) {
+  priority_set.set_value(apply_to_this_thread(priority));
   for (;;) {
     std::function<void()> job;
     {
-      std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
-      if (jobs_.empty()) return;  // stopping, and nothing left
-      job = std::move(jobs_.front());
-      jobs_.pop_front();
+      std::unique_lock<std::mutex> lock(state->mutex);
+      state->running = false;
+      state->idle.notify_all();
+      state->wake.wait(lock, [&] { return state->stopping || !state->jobs.empty(); });
+      if (state->jobs.empty()) return;  // stopping, and nothing left
+      job = std::move(state->jobs.front());
+      state->jobs.pop_front();
+      state->running = true;
     }
     job();
   }

@@ -7,10 +7,12 @@
 // process's other threads leave, and a waking cycle thread preempts it at once. Threads it
 // starts (an OpenMP team of its own) inherit that.
 
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -25,7 +27,7 @@ std::optional<WorkerPriority> worker_priority_from_name(const std::string& name)
 class BackgroundWorker {
  public:
   explicit BackgroundWorker(WorkerPriority priority = WorkerPriority::kNormal);
-  ~BackgroundWorker();  // finishes the queued tasks, then joins
+  ~BackgroundWorker();  // finishes the queued tasks, then joins (unless let go)
   BackgroundWorker(const BackgroundWorker&) = delete;
   BackgroundWorker& operator=(const BackgroundWorker&) = delete;
 
@@ -42,17 +44,26 @@ class BackgroundWorker {
   // the normal priority, which is always safe). Waits for the thread to have tried.
   std::string priority_problem();
 
- private:
-  void enqueue(std::function<void()> job);
-  void run();
+  // Drops the tasks not yet started and waits up to `timeout` for the running one to end.
+  // Returns true when the thread is idle; otherwise the thread is let go (detached): it finishes
+  // its task on its own and the destructor does not wait for it. For an idle-priority worker
+  // that another process starves: its task (told to stop) may get no CPU to see that for
+  // minutes. A task let go must own everything it touches; a process that let one go should
+  // end with std::_Exit rather than run static destructors under it.
+  bool finish_or_let_go(std::chrono::milliseconds timeout);
 
-  const WorkerPriority priority_;
-  std::promise<std::string> priority_set_;
-  std::shared_future<std::string> priority_problem_ = priority_set_.get_future().share();
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::deque<std::function<void()>> jobs_;
-  bool stopping_ = false;
+ private:
+  struct State {
+    std::mutex mutex;
+    std::condition_variable wake, idle;
+    std::deque<std::function<void()>> jobs;
+    bool stopping = false, running = false;
+  };
+  void enqueue(std::function<void()> job);
+  static void run(std::shared_ptr<State> state, WorkerPriority priority, std::promise<std::string> priority_set);
+
+  std::shared_ptr<State> state_ = std::make_shared<State>();
+  std::shared_future<std::string> priority_problem_;
   std::thread thread_;  // last: started once the members above exist
 };
 

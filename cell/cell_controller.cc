@@ -60,8 +60,15 @@ CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fau
       }));
 }
 
+bool CellController::shut_down_background(std::chrono::milliseconds timeout) {
+  calibration_cancelled_->store(true);  // a running fit ends within one Newton iteration
+  const bool calibration = calibration_worker_.finish_or_let_go(timeout);
+  const bool branch = branch_worker_.finish_or_let_go(timeout);
+  return calibration && branch;
+}
+
 CellController::~CellController() {
-  calibration_cancelled_->store(true);  // a running calibration ends within one simulation
+  shut_down_background(std::chrono::seconds(2));
   for (auto id : subscriptions_) bus_.unsubscribe(id);
   robots_.reset();
   cameras_.close();

@@ -117,6 +117,10 @@ class CellController {
   // The settled states so far as a trial directory (cell/learning/cell_trial.h), for `twin
   // identify` and `twin diagnose` offline. "" or why not (no state yet, a file not written).
   std::string write_observed_trial(const std::string& directory) const;
+  // Tells the calibration and branch workers to stop and waits up to `timeout` for each; true
+  // when both are done. A worker that is not is let go (BackgroundWorker::finish_or_let_go): the
+  // process should then end with std::_Exit. Also run (with 2 s) by the destructor.
+  bool shut_down_background(std::chrono::milliseconds timeout);
   // Calibrations finished, and the latest one (nullopt before the first).
   int calibrations() const { return calibrations_; }
   int calibrations_adopted() const { return calibrations_adopted_; }

@@ -15,6 +15,7 @@
 // given but the experiment did not finish within --max-seconds.
 #include <cstdio>
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -202,7 +203,16 @@ int main(int argc, char** argv) {
   }
   fmt::print("cell_controller: STOPPED (was {}; {} malformed messages dropped)\n", cell::to_string(final_state),
              cell.dropped_messages());
-  if (final_state == cell::CellState::kSafeHold) return 3;
-  if (exit_after && runner && !runner->done()) return 4;
-  return 0;
+  const int status = final_state == cell::CellState::kSafeHold ? 3 : (exit_after && runner && !runner->done()) ? 4 : 0;
+  // A calibration or branch candidate still running was told to stop; at idle priority on a
+  // machine another process keeps busy (the fake world) it may not get the CPU to notice for
+  // minutes. Its results are not needed any more and everything the run made is written: end
+  // without waiting for it (and without running destructors under it).
+  if (!cell.shut_down_background(std::chrono::seconds(2))) {
+    fmt::print("cell_controller: background learning still running at exit, abandoned\n");
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(status);
+  }
+  return status;
 }

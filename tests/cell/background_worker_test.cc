@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <future>
+#include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -64,6 +66,35 @@ TEST_CASE("an idle-priority worker runs its tasks under SCHED_IDLE, a normal one
   CHECK(idle.submit(policy).get() == SCHED_IDLE);
   CHECK(normal.submit(policy).get() == SCHED_OTHER);
   CHECK(policy() == SCHED_OTHER);
+}
+
+// A stopping cell does not wait for a starved background task: it lets the worker go, the task
+// ends on its own later, and nothing it owns is freed under it.
+TEST_CASE("finish_or_let_go waits for an idle worker, lets a busy one go and drops what has not started",
+          "[cell][worker]") {
+  {
+    BackgroundWorker w;
+    CHECK(w.submit([] { return 1; }).get() == 1);
+    CHECK(w.finish_or_let_go(std::chrono::milliseconds(500)));
+  }
+  auto release = std::make_shared<std::atomic<bool>>(false);
+  auto finished = std::make_shared<std::atomic<bool>>(false);
+  std::future<int> second;
+  {
+    BackgroundWorker w;
+    std::future<void> first = w.submit([release, finished] {
+      while (!release->load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      finished->store(true);
+    });
+    second = w.submit([] { return 2; });
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    CHECK_FALSE(w.finish_or_let_go(std::chrono::milliseconds(50)));
+  }  // the destructor does not wait for the task let go
+  CHECK_FALSE(finished->load());
+  CHECK_THROWS_AS(second.get(), std::future_error);  // dropped, never run
+  release->store(true);
+  for (int i = 0; i < 1000 && !finished->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  CHECK(finished->load());
 }
 
 }  // namespace
