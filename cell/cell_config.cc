@@ -6,6 +6,7 @@
 #include "drivers/camera_config_json.h"
 #include "tracking/tracker_config_json.h"
 #include "twin/base/json_field.h"
+#include "twin/diagnosis/effect_library.h"
 
 namespace cell {
 namespace {
@@ -56,7 +57,9 @@ bool boolean(const twin::JsonField& v) {
 
 void read_learning_settings(const twin::JsonField& f, LearningSettings& s) {
   f.only_keys({"record_states", "calibrate", "window_s", "min_still_s", "max_states", "min_gain", "max_evaluations",
-               "parameters", "follow_branches", "reseed_min_error_m", "reseed_min_gain", "priority"});
+               "parameters", "diagnose", "diagnosis_effects", "diagnosis_noise_mm", "diagnosis_max_evaluations",
+               "follow_branches",
+               "reseed_min_error_m", "reseed_min_gain", "priority"});
   if (auto v = f.optional("priority")) {
     const std::optional<WorkerPriority> priority = worker_priority_from_name(v->string());
     if (!priority) v->fail("must be \"idle\" or \"normal\"");
@@ -89,6 +92,26 @@ void read_learning_settings(const twin::JsonField& f, LearningSettings& s) {
       }
     }
   }
+  if (auto v = f.optional("diagnose")) s.diagnose = boolean(*v);
+  if (auto v = f.optional("diagnosis_noise_mm")) s.diagnosis.noise_mm = v->positive("mm");
+  if (auto v = f.optional("diagnosis_max_evaluations")) {
+    s.diagnosis.base_evaluations = s.diagnosis.refit_evaluations = v->positive_integer();
+  }
+  if (auto v = f.optional("diagnosis_effects")) {
+    if (!v->is_array() || v->array_size() == 0) v->fail("must be a non-empty array of effect names");
+    std::string list;
+    for (std::size_t i = 0; i < v->array_size(); ++i) {
+      const std::string name = (*v)[i].string();
+      try {
+        twin::diagnosis::find_effect(name);
+      } catch (const std::invalid_argument& e) {
+        (*v)[i].fail(e.what());
+      }
+      list += (list.empty() ? "" : ",") + name;
+    }
+    s.diagnosis.effects = list;
+  }
+  if (s.diagnose && !s.record_states) f.fail_child("diagnose", "needs record_states (it diagnoses the recorded states)");
   if (s.calibrate && !s.record_states) f.fail_child("calibrate", "needs record_states (it fits the recorded states)");
   if (s.follow_branches && !s.record_states) {
     f.fail_child("follow_branches", "needs record_states (it re-seeds from a settled state)");

@@ -50,6 +50,13 @@
 //                "max_evaluations": 12,             (of each fit)
 //                "parameters": ["tensile_N_m", "shear_N_m", "bending_Nm"],  (fitted, by the
 //                                                    names of material files)
+//                "diagnose": true,                  (after each calibration, name and add a
+//                                                    missing effect: in_situ_diagnosis.h)
+//                "diagnosis_effects": ["clamp_grip", ...],  (candidates; default every one a
+//                                                    cell's states can carry)
+//                "diagnosis_noise_mm": 2.0,         (the tracker's error per coordinate, mm;
+//                                                    default: estimated from the states)
+//                "diagnosis_max_evaluations": 12,   (of its base fit and of each start of a refit)
 //                "follow_branches": true,           (re-seed the twin from a settled state it
 //                                                    misses by more than reseed_min_error_m when
 //                                                    that brings it nearer by reseed_min_gain)
@@ -65,6 +72,7 @@
 
 #include "cell/background_worker.h"
 #include "cell/learning/in_situ_calibration.h"
+#include "cell/learning/in_situ_diagnosis.h"
 #include "cell/learning/settled_state.h"
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
@@ -96,6 +104,8 @@ struct LearningSettings {
   learning::SettleOptions settle;
   int max_states = 16;
   learning::CalibrationOptions calibration;
+  bool diagnose = true;
+  learning::DiagnosisOptions diagnosis;
   bool follow_branches = true;
   double reseed_min_error_m = 0.005;
   double reseed_min_gain = 0.3;

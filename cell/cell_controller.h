@@ -27,6 +27,7 @@
 #include "cell/cycle_pacer.h"
 #include "cell/learning/branch_following.h"
 #include "cell/learning/in_situ_calibration.h"
+#include "cell/learning/in_situ_diagnosis.h"
 #include "cell/learning/settled_state.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
@@ -125,6 +126,11 @@ class CellController {
   int calibrations() const { return calibrations_; }
   int calibrations_adopted() const { return calibrations_adopted_; }
   const std::optional<learning::CalibrationResult>& last_calibration() const { return last_calibration_; }
+  // Diagnoses finished (in_situ_diagnosis.h; after each calibration, or on their own with
+  // calibrate off), those whose named effect went into the twin, and the latest one.
+  int diagnoses() const { return diagnoses_; }
+  int diagnoses_adopted() const { return diagnoses_adopted_; }
+  const std::optional<learning::DiagnosisResult>& last_diagnosis() const { return last_diagnosis_; }
   // The material the twin runs (the config's, or the latest adopted calibration once swapped in).
   const twin::Material& material() const { return material_; }
   // Branch following: re-seeds taken, and the latest attempt (nullopt before the first).
@@ -154,6 +160,8 @@ class CellController {
   void learn_from_cycle(const CycleReport& report);
   void collect_calibration();
   void start_calibration();
+  void start_diagnosis();
+  void collect_diagnosis();
   void consider_reseed(const learning::SettledObservation& state);
   void collect_branch_job();
 
@@ -232,6 +240,15 @@ class CellController {
     std::string directory, material_file;
   };
   std::future<CalibrationJob> calibration_job_;
+  // Diagnoses run on calibration_worker_ after the calibration of the same states.
+  int diagnoses_ = 0, diagnoses_adopted_ = 0;
+  std::optional<learning::DiagnosisResult> last_diagnosis_;
+  struct DiagnosisJob {
+    std::int64_t id = 0;
+    learning::DiagnosisResult result;
+  };
+  std::future<DiagnosisJob> diagnosis_job_;
+  std::int64_t diagnosed_at_added_ = 0;  // settled_states_.added() when the last diagnosis started
   std::shared_ptr<std::atomic<bool>> calibration_cancelled_ = std::make_shared<std::atomic<bool>>(false);
   // Run calibrations and branch candidates, by default at idle priority: only on CPU the cycle and
   // the twin leave (two workers: a candidate is seconds, a calibration minutes).

@@ -1,6 +1,7 @@
 // CellController's learning (issue 35): settled states from the tracked cycles, calibrations of
-// the material on them on an idle-priority worker, the adopted material swapped into the twin on
-// its own worker between steps, and the CELL_CALIBRATION message.
+// the material on them and diagnoses of what the twin misses on them on an idle-priority worker,
+// an adopted material swapped into the twin on its own worker between steps, and the
+// CELL_CALIBRATION and CELL_DIAGNOSIS messages.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include "cell/learning/cell_trial.h"
 #include "drivers/lcm_channels.h"
 #include <prepreg_lcm/calibration_t.hpp>
+#include <prepreg_lcm/diagnosis_t.hpp>
 #include "twin/base/atomic_file.h"
 #include "twin/base/cancellation.h"
 #include "twin/diagnosis/svg_figures.h"
@@ -104,11 +106,50 @@ std::string states_figure(const learning::CalibrationResult& r, const std::vecto
                                         groups, noise_mm, "tracker scatter of a state's mean");
 }
 
+prepreg_lcm::diagnosis_t diagnosis_message(std::int64_t utime, std::int64_t id, const learning::DiagnosisResult& r) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  prepreg_lcm::diagnosis_t m;
+  m.utime = utime;
+  m.diagnosis_id = id;
+  const twin::diagnosis::DiagnoseOutcome& o = r.outcome;
+  m.verdict = r.ran ? o.verdict.verdict : "failed";
+  m.effect = !r.ran ? "" : o.verdict.effect ? *o.verdict.effect : o.verdict.closest ? *o.verdict.closest : "";
+  m.adoption = learning::adoption_name(r.adoption);
+  m.reason = r.reason;
+  const auto mean = [&](const twin::diagnosis::SetScore* set) {
+    return r.ran && set && set->usable() ? set->mean_correspondence_m : nan;
+  };
+  m.noise_sigma_m = r.ran ? o.sigma_m : nan;
+  m.base_fitted_mean_m = mean(&o.base_train);
+  m.base_held_out_mean_m = mean(&o.base_test);
+  m.effect_fitted_mean_m = mean(o.after_train ? &*o.after_train : nullptr);
+  m.effect_held_out_mean_m = mean(o.after_test ? &*o.after_test : nullptr);
+  if (r.ran) {
+    for (const twin::ParameterEstimate& e : o.parameters) {
+      if (!std::isfinite(e.value) || !(e.lower95 <= e.value && e.value <= e.upper95)) continue;
+      m.parameter_names.emplace_back(twin::parameter_name(e.parameter));
+      m.values.push_back(e.value);
+      m.lower95.push_back(e.lower95);
+      m.upper95.push_back(e.upper95);
+    }
+  }
+  m.num_parameters = static_cast<std::int32_t>(m.values.size());
+  const bool judged = r.before.failure.empty() && r.before.held_out_mean_m > 0;
+  m.held_out_error_before_m = judged ? r.before.held_out_mean_m : nan;
+  m.held_out_error_after_m = judged && r.after.failure.empty() && r.after.held_out_mean_m > 0 ? r.after.held_out_mean_m : nan;
+  m.states = r.states;
+  m.seconds = r.seconds;
+  m.report_directory = r.ran ? r.report_directory : "";
+  m.material_file = r.material_file;
+  return m;
+}
+
 }  // namespace
 
 void CellController::learn_from_cycle(const CycleReport& report) {
   if (!config_.learning.record_states || !twin_) return;
   collect_calibration();
+  collect_diagnosis();
   collect_branch_job();
   if (!settled_detector_) {
     settled_detector_ = std::make_unique<learning::SettledStateDetector>(
@@ -133,6 +174,7 @@ void CellController::learn_from_cycle(const CycleReport& report) {
     consider_reseed(settled_states_.states().back());
   }
   start_calibration();
+  start_diagnosis();
 }
 
 void CellController::consider_reseed(const learning::SettledObservation& state) {
@@ -259,6 +301,60 @@ void CellController::collect_calibration() {
   bus_.publish(std::string(drivers::channels::kCellCalibration),
                calibration_message(drivers::utime_now(), job.id, job.result, job.material_file));
   last_calibration_ = std::move(job.result);
+}
+
+void CellController::start_diagnosis() {
+  if (!config_.learning.diagnose || diagnosis_job_.valid() || calibration_job_.valid() || pending_material_) return;
+  const std::vector<learning::SettledObservation>& states = settled_states_.states();
+  if (static_cast<int>(states.size()) < 3) return;  // two fitted, the newest held out
+  // Once per new way of holding the sheet, after its calibration (if any) was collected: the
+  // diagnosis starts from the material the twin then runs.
+  if (settled_states_.added() == diagnosed_at_added_) return;
+  if (config_.learning.calibrate && calibrated_at_added_ != settled_states_.added()) return;
+  diagnosed_at_added_ = settled_states_.added();
+  const std::int64_t id = diagnoses_ + 1;
+  const fs::path base = learning_dir_.empty()
+                            ? fs::temp_directory_path() / fmt::format("prepreg_cell_learning_{}", ::getpid())
+                            : fs::path(learning_dir_);
+  learning::DiagnosisOptions options = config_.learning.diagnosis;
+  options.min_gain = config_.learning.calibration.min_gain;
+  options.cancelled = [flag = calibration_cancelled_] { return flag->load(); };
+  diagnosis_job_ = calibration_worker_.submit([id, directory = base / fmt::format("diagnosis_{}", id), states,
+                                               mesh = twin_->mesh(), plan = plan_, material = material_, options,
+                                               flag = calibration_cancelled_] {
+    omp_set_num_threads(1);
+    const twin::CancellationScope cancellation(flag.get());
+    DiagnosisJob job;
+    job.id = id;
+    job.result.directory = directory.string();
+    try {
+      const twin::Trial trial =
+          learning::write_cell_trial((directory / "trial").string(), states, mesh, plan, material);
+      job.result = learning::diagnose_states(trial, material, directory.string(), options);
+    } catch (const std::exception& e) {  // a file not written, a trial the twin cannot take
+      job.result.adoption = learning::EffectAdoption::kFailed;
+      job.result.reason = e.what();
+    }
+    return job;
+  });
+}
+
+void CellController::collect_diagnosis() {
+  if (!diagnosis_job_.valid() || diagnosis_job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  DiagnosisJob job;
+  try {
+    job = diagnosis_job_.get();
+  } catch (const std::exception& e) {
+    job.id = diagnoses_ + 1;
+    job.result.reason = e.what();
+  }
+  ++diagnoses_;
+  if (job.result.adoption == learning::EffectAdoption::kAdopted) {
+    ++diagnoses_adopted_;
+    pending_material_ = job.result.augmented;  // the twin's worker swaps it in between steps
+  }
+  bus_.publish(std::string(drivers::channels::kCellDiagnosis), diagnosis_message(drivers::utime_now(), job.id, job.result));
+  last_diagnosis_ = std::move(job.result);
 }
 
 std::string CellController::write_observed_trial(const std::string& directory) const {

@@ -29,6 +29,8 @@ CellMonitor::CellMonitor(drivers::LcmBus& bus, MonitorOptions options, MonitorSi
                                                         [this](const auto& m) { on_state(m); }));
   s.push_back(bus_.subscribe<prepreg_lcm::calibration_t>(std::string(ch::kCellCalibration),
                                                          [this](const auto& m) { on_calibration(m); }));
+  s.push_back(bus_.subscribe<prepreg_lcm::diagnosis_t>(std::string(ch::kCellDiagnosis),
+                                                       [this](const auto& m) { on_diagnosis(m); }));
   s.push_back(bus_.subscribe<prepreg_lcm::prediction_error_t>(
       std::string(ch::kPredictionError), [this](const auto& m) { on_error(m); }));
   const std::string sheets = std::string(ch::kSheetObserved) + "|" +
@@ -72,6 +74,22 @@ void CellMonitor::on_calibration(const prepreg_lcm::calibration_t& msg) {
   e.seconds = msg.seconds;
   summary_.add_calibration(e);
   if (sinks_.calibration) sinks_.calibration(e);
+}
+
+void CellMonitor::on_diagnosis(const prepreg_lcm::diagnosis_t& msg) {
+  DiagnosisEvent e;
+  e.seen_utime = clock_();
+  e.diagnosis_id = msg.diagnosis_id;
+  e.verdict = msg.verdict;
+  e.effect = msg.effect;
+  e.adoption = msg.adoption;
+  e.reason = msg.reason;
+  e.base_held_out_m = msg.base_held_out_mean_m;
+  e.effect_held_out_m = msg.effect_held_out_mean_m;
+  e.states = msg.states;
+  e.seconds = msg.seconds;
+  summary_.add_diagnosis(e);
+  if (sinks_.diagnosis) sinks_.diagnosis(e);
 }
 
 void CellMonitor::on_state(const prepreg_lcm::cell_state_t& msg) {

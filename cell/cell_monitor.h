@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <prepreg_lcm/calibration_t.hpp>
+#include <prepreg_lcm/diagnosis_t.hpp>
 #include <prepreg_lcm/camera_status_t.hpp>
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/gripper_status_t.hpp>
@@ -46,6 +47,7 @@ struct MonitorSinks {
   std::function<void(const CycleRecord&)> cycle;
   std::function<void(const StateChange&)> state_change;
   std::function<void(const CalibrationEvent&)> calibration;  // CELL_CALIBRATION
+  std::function<void(const DiagnosisEvent&)> diagnosis;      // CELL_DIAGNOSIS
 };
 
 class CellMonitor {
@@ -66,6 +68,7 @@ class CellMonitor {
  private:
   void on_state(const prepreg_lcm::cell_state_t& msg);
   void on_calibration(const prepreg_lcm::calibration_t& msg);
+  void on_diagnosis(const prepreg_lcm::diagnosis_t& msg);
   void on_error(const prepreg_lcm::prediction_error_t& msg);
   void on_sheet(const std::string& channel, const prepreg_lcm::sheet_state_t& msg);
   // The record of `cycle_id`, completing older pending ones; nullptr when the cycle is done.

@@ -103,7 +103,20 @@ std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& 
     out += "    " + format_state_change(change) + "\n";
   out += fmt::format("  calibrations: {}\n", s.calibrations().size());
   for (const CalibrationEvent& event : s.calibrations()) out += "    " + format_calibration(event) + "\n";
+  out += fmt::format("  diagnoses: {}\n", s.diagnoses().size());
+  for (const DiagnosisEvent& event : s.diagnoses()) out += "    " + format_diagnosis(event) + "\n";
   return out;
+}
+
+std::string format_diagnosis(const DiagnosisEvent& e) {
+  std::string out = fmt::format("diagnosis {}: {}", e.diagnosis_id, e.verdict);
+  if (!e.effect.empty()) out += fmt::format(" {}{}", e.verdict == "effect" ? "" : "closest ", e.effect);
+  out += fmt::format(", {} ({} states, {:.1f} s)", e.adoption, e.states, e.seconds);
+  if (std::isfinite(e.base_held_out_m) && std::isfinite(e.effect_held_out_m)) {
+    out += fmt::format(", held-out state {:.1f} -> {:.1f} mm mean (base fit -> with the effect)", 1e3 * e.base_held_out_m,
+                       1e3 * e.effect_held_out_m);
+  }
+  return out + ": " + e.reason;
 }
 
 std::string format_calibration(const CalibrationEvent& e) {

@@ -18,6 +18,8 @@ std::string format_cycle(const CycleRecord& record);
 std::string format_state_change(const StateChange& change);
 // "calibration 2: adopted (3 states fitted, 41.0 s), held-out state 14.1 -> 9.8 mm mean; bending_Nm ...: why".
 std::string format_calibration(const CalibrationEvent& event);
+// "diagnosis 1: effect clamp_grip, adopted (4 states, 310.2 s), held-out state 12.1 -> 6.3 mm mean: why".
+std::string format_diagnosis(const DiagnosisEvent& event);
 // Multi-line, ends with a newline.
 std::string format_summary(const MonitorSummary& summary, const drivers::BusCounters& bus);
 

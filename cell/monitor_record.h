@@ -61,6 +61,16 @@ struct CalibrationEvent {
   double seconds = 0.0;
 };
 
+// A CELL_DIAGNOSIS message as the monitor keeps it (cell/learning/in_situ_diagnosis.h).
+struct DiagnosisEvent {
+  std::int64_t seen_utime = 0;
+  std::int64_t diagnosis_id = 0;
+  std::string verdict, effect, adoption, reason;
+  double base_held_out_m = 0.0, effect_held_out_m = 0.0;  // NaN when not simulated
+  int states = 0;
+  double seconds = 0.0;
+};
+
 struct StateChange {
   std::int64_t seen_utime = 0;
   std::int64_t cycle_id = -1;

@@ -26,6 +26,7 @@ class MonitorSummary {
   void add_cycle(const CycleRecord& record);
   void add_state_change(const StateChange& change) { state_changes_.push_back(change); }
   void add_calibration(const CalibrationEvent& event) { calibrations_.push_back(event); }
+  void add_diagnosis(const DiagnosisEvent& event) { diagnoses_.push_back(event); }
   void count_late_message() { ++late_messages_; }
   // The cell started again (cycle ids restart at 0): the ids seen so far are closed as a run.
   void start_new_run();
@@ -49,6 +50,7 @@ class MonitorSummary {
   std::uint64_t late_messages() const { return late_messages_; }
   const std::vector<StateChange>& state_changes() const { return state_changes_; }
   const std::vector<CalibrationEvent>& calibrations() const { return calibrations_; }
+  const std::vector<DiagnosisEvent>& diagnoses() const { return diagnoses_; }
   const drivers::BusCounters& last_bus() const { return last_bus_; }
 
  private:
@@ -64,6 +66,7 @@ class MonitorSummary {
   std::uint64_t late_messages_ = 0;
   std::vector<StateChange> state_changes_;
   std::vector<CalibrationEvent> calibrations_;
+  std::vector<DiagnosisEvent> diagnoses_;
   drivers::BusCounters last_bus_;
 };
 

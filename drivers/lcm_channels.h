@@ -31,6 +31,7 @@ inline constexpr std::string_view kPredictionError = "PREDICTION_ERROR";  // pre
 inline constexpr std::string_view kCellState = "CELL_STATE";              // cell_state_t
 inline constexpr std::string_view kGraspPlan = "GRASP_PLAN";              // grasp_plan_t
 inline constexpr std::string_view kCellCalibration = "CELL_CALIBRATION";  // calibration_t, in-situ identification
+inline constexpr std::string_view kCellDiagnosis = "CELL_DIAGNOSIS";  // diagnosis_t, discrepancy on the cell's states
 inline constexpr std::string_view kSimFault = "SIM_FAULT";  // sim_fault_t, fake hardware only
 // The fake world's true sheet (sheet_state_t, SOURCE_OBSERVED with coverage 1), fake hardware only:
 // lets tests and the monitor compare the tracker and the twin with the truth.

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include <cmath>
+#include <set>
 #include <string_view>
 #include <vector>
 
@@ -211,6 +212,42 @@ std::string message_problem(const prepreg_lcm::calibration_t& msg) {
   return first(msg.states_fitted < 0 ? "states_fitted < 0" : std::string(),
                msg.states_held_out < 0 ? "states_held_out < 0" : std::string(),
                msg.simulations < 0 ? "simulations < 0" : std::string(), nonnegative_problem("seconds", msg.seconds));
+}
+
+std::string message_problem(const prepreg_lcm::diagnosis_t& msg) {
+  static const std::set<std::string> kVerdicts = {"effect", "none", "unexplained", "model_form", "failed"};
+  static const std::set<std::string> kAdoptions = {"adopted", "not named", "refused", "failed"};
+  if (!kVerdicts.count(msg.verdict)) {
+    return "verdict '" + msg.verdict + "' is not one of effect, none, unexplained, model_form, failed";
+  }
+  if (!kAdoptions.count(msg.adoption)) {
+    return "adoption '" + msg.adoption + "' is not one of adopted, not named, refused, failed";
+  }
+  if (msg.adoption == "adopted" && msg.verdict != "effect") return "adoption 'adopted' without verdict 'effect'";
+  constexpr int kMaxParameters = 32;
+  std::string problem = first(count_problem("parameter_names", msg.parameter_names, msg.num_parameters, kMaxParameters),
+                              count_problem("values", msg.values, msg.num_parameters, kMaxParameters),
+                              count_problem("lower95", msg.lower95, msg.num_parameters, kMaxParameters),
+                              count_problem("upper95", msg.upper95, msg.num_parameters, kMaxParameters),
+                              finite_problem("values", msg.values), finite_problem("lower95", msg.lower95),
+                              finite_problem("upper95", msg.upper95));
+  if (!problem.empty()) return problem;
+  for (std::size_t i = 0; i < msg.values.size(); ++i) {
+    if (!(msg.lower95[i] <= msg.values[i] && msg.values[i] <= msg.upper95[i])) {
+      return "values[" + std::to_string(i) + "] = " + std::to_string(msg.values[i]) + " outside its interval [" +
+             std::to_string(msg.lower95[i]) + ", " + std::to_string(msg.upper95[i]) + "]";
+    }
+  }
+  for (const auto& [field, value] : {std::pair{"noise_sigma_m", msg.noise_sigma_m},
+                                     std::pair{"base_fitted_mean_m", msg.base_fitted_mean_m},
+                                     std::pair{"base_held_out_mean_m", msg.base_held_out_mean_m},
+                                     std::pair{"effect_fitted_mean_m", msg.effect_fitted_mean_m},
+                                     std::pair{"effect_held_out_mean_m", msg.effect_held_out_mean_m},
+                                     std::pair{"held_out_error_before_m", msg.held_out_error_before_m},
+                                     std::pair{"held_out_error_after_m", msg.held_out_error_after_m}}) {
+    if (std::isinf(value) || value < 0) return std::string(field) + " = " + std::to_string(value) + ", expected >= 0 or NaN";
+  }
+  return first(msg.states < 0 ? "states < 0" : std::string(), nonnegative_problem("seconds", msg.seconds));
 }
 
 std::string message_problem(const lcmt_iiwa_command& msg) {

@@ -11,6 +11,7 @@
 #include <lcmt_iiwa_command.hpp>
 #include <lcmt_iiwa_status.hpp>
 #include <prepreg_lcm/calibration_t.hpp>
+#include <prepreg_lcm/diagnosis_t.hpp>
 #include <prepreg_lcm/camera_status_t.hpp>
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/grasp_plan_t.hpp>
@@ -38,6 +39,7 @@ std::string message_problem(const prepreg_lcm::sim_fault_t& msg);
 // Verdict one of adopted / refused / failed; parameter arrays of the count with finite values
 // and lower95 <= value <= upper95; errors >= 0 or NaN (a simulation that failed).
 std::string message_problem(const prepreg_lcm::calibration_t& msg);
+std::string message_problem(const prepreg_lcm::diagnosis_t& msg);
 // iiwa: 0..7 joints (a real arm sends 7; 0 is a valid empty torque-mode position list).
 std::string message_problem(const lcmt_iiwa_command& msg);
 std::string message_problem(const lcmt_iiwa_status& msg);

@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   double error_mean = 0, error_max = 0;
   int cycles_in_line = 0, camera_ok = 0, max_substeps = 0;
   bool experiment_printed = false;
-  int calibrations_printed = 0, reseeds_printed = 0;
+  int calibrations_printed = 0, diagnoses_printed = 0, reseeds_printed = 0;
   while (!g_stop) {
     const std::int64_t cycle_start_us = drivers::host_clock_us();
     const cell::CycleReport r = cell.cycle();
@@ -159,6 +159,15 @@ int main(int argc, char** argv) {
       fmt::print("{:8.1f} s  calibration {}: {} ({} states fitted, {:.1f} s): {}\n",
                  std::chrono::duration<double>(now - start).count(), calibrations_printed,
                  cell::learning::verdict_name(c.verdict), c.fitted_states, c.seconds, c.reason);
+      std::fflush(stdout);
+    }
+    if (cell.diagnoses() > diagnoses_printed) {
+      diagnoses_printed = cell.diagnoses();
+      const cell::learning::DiagnosisResult& d = *cell.last_diagnosis();
+      fmt::print("{:8.1f} s  diagnosis {}: {}, effect {} ({} states, {:.1f} s): {}\n",
+                 std::chrono::duration<double>(now - start).count(), diagnoses_printed,
+                 d.ran ? d.outcome.verdict.verdict : "failed", cell::learning::adoption_name(d.adoption), d.states,
+                 d.seconds, d.reason);
       std::fflush(stdout);
     }
     if (runner && runner->done() && !experiment_printed) {

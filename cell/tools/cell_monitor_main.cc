@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
       fmt::print("{}\n", cell::format_calibration(e));
       std::fflush(stdout);
     };
+    sinks.diagnosis = [](const cell::DiagnosisEvent& e) {
+      fmt::print("{}\n", cell::format_diagnosis(e));
+      std::fflush(stdout);
+    };
     sinks.state_change = [](const cell::StateChange& c) {
       fmt::print("{}\n", cell::format_state_change(c));
       std::fflush(stdout);

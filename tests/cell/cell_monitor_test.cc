@@ -32,7 +32,7 @@ struct Harness {
   CellMonitor monitor{
       bus, cell::MonitorOptions{},
       cell::MonitorSinks{[this](const CycleRecord& r) { records.push_back(r); },
-                         [this](const cell::StateChange& c) { changes.push_back(c); }, {}},
+                         [this](const cell::StateChange& c) { changes.push_back(c); }, {}, {}},
       [this] { return clock_us; }};
 
   void dispatch() {
@@ -279,5 +279,50 @@ TEST_CASE("calibration events are shown as they come and listed in the summary; 
         "calibration 2: refused (3 states fitted, 102.0 s), held-out state 12.4 -> 14.5 mm mean; bending_Nm 0.006 "
         "[0.004, 0.009]: no better on the held-out state");
   CHECK_THAT(cell::format_summary(monitor.summary(), bus.counters()), Catch::Contains("calibrations: 1\n    calibration 2"));
+  CHECK(bus.counters().rejected == 1);
+}
+
+TEST_CASE("diagnosis events are shown as they come and listed in the summary; a malformed one is dropped",
+          "[monitor]") {
+  Harness h;
+  std::vector<cell::DiagnosisEvent> seen;
+  drivers::LcmBus bus{"memq://"};
+  cell::MonitorSinks sinks;
+  sinks.diagnosis = [&](const cell::DiagnosisEvent& e) { seen.push_back(e); };
+  CellMonitor monitor(bus, cell::MonitorOptions{}, sinks);
+  prepreg_lcm::diagnosis_t m{};
+  m.utime = kStart_us;
+  m.diagnosis_id = 1;
+  m.verdict = "effect";
+  m.effect = "clamp_grip";
+  m.adoption = "refused";
+  m.reason = "clamp_grip named; no better on the held-out state";
+  m.noise_sigma_m = 0.002;
+  m.base_fitted_mean_m = 0.009;
+  m.base_held_out_mean_m = 0.0121;
+  m.effect_fitted_mean_m = 0.005;
+  m.effect_held_out_mean_m = 0.0063;
+  m.num_parameters = 1;
+  m.parameter_names = {"clamp_grip_stiffness_N_m"};
+  m.values = {40.0};
+  m.lower95 = {30.0};
+  m.upper95 = {55.0};
+  m.held_out_error_before_m = 0.0124;
+  m.held_out_error_after_m = 0.0119;
+  m.states = 4;
+  m.seconds = 310.2;
+  REQUIRE(bus.publish(std::string(ch::kCellDiagnosis), m));
+  prepreg_lcm::diagnosis_t bad = m;
+  bad.verdict = "none";
+  bad.adoption = "adopted";  // nothing named cannot be adopted: decodes, fails its check, never shown
+  const auto bytes = testing_support::encode_message(bad);
+  REQUIRE(bus.publish_raw(std::string(ch::kCellDiagnosis), bytes.data(), bytes.size()));
+  while (bus.handle_for(std::chrono::milliseconds(0)).messages > 0) {
+  }
+  REQUIRE(seen.size() == 1);
+  CHECK(cell::format_diagnosis(seen[0]) ==
+        "diagnosis 1: effect clamp_grip, refused (4 states, 310.2 s), held-out state 12.1 -> 6.3 mm mean (base fit -> "
+        "with the effect): clamp_grip named; no better on the held-out state");
+  CHECK_THAT(cell::format_summary(monitor.summary(), bus.counters()), Catch::Contains("diagnoses: 1\n    diagnosis 1"));
   CHECK(bus.counters().rejected == 1);
 }

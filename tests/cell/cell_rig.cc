@@ -38,7 +38,7 @@ RigFiles default_files() {
   f.config["job"] = {{"plan_file", "plan.json"}};
   // Settled states are recorded; calibrations (minutes of background fitting) only where a test
   // asks for them.
-  f.config["learning"] = {{"calibrate", false}};
+  f.config["learning"] = {{"calibrate", false}, {"diagnose", false}};
   for (auto& c : f.config["cameras"]) {
     c["backend"] = "test_sim";
     c["uri"] = "";  // the scene comes from the rig, not a file

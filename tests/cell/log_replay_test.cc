@@ -58,7 +58,7 @@ Replayed replay(const std::string& path) {
   std::int64_t clock_us = 0;
   Replayed out;
   cell::CellMonitor monitor(bus, cell::MonitorOptions{},
-                            {[&](const cell::CycleRecord& r) { out.records.push_back(r); }, {}, {}},
+                            {[&](const cell::CycleRecord& r) { out.records.push_back(r); }, {}, {}, {}},
                             [&] { return clock_us; });
   out.stats = cell::replay_log(path, bus, clock_us, cell::ReplayOptions{});
   monitor.flush();

@@ -152,3 +152,47 @@ TEST_CASE("iiwa status checks", "[lcm_checks]") {
   bad.num_joints = 8;
   CHECK_THAT(message_problem(bad), Contains("outside [0, 7]"));
 }
+
+TEST_CASE("diagnosis checks", "[lcm_checks]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  prepreg_lcm::diagnosis_t m{};
+  m.verdict = "unexplained";
+  m.effect = "clamp_grip";  // the closest candidate
+  m.adoption = "not named";
+  m.noise_sigma_m = 0.002;
+  m.base_fitted_mean_m = 0.009;
+  m.base_held_out_mean_m = 0.012;
+  m.effect_fitted_mean_m = nan;  // not refitted
+  m.effect_held_out_mean_m = nan;
+  m.num_parameters = 1;
+  m.parameter_names = {"clamp_grip_strength"};
+  m.values = {0.4};
+  m.lower95 = {0.2};
+  m.upper95 = {0.7};
+  m.held_out_error_before_m = nan;
+  m.held_out_error_after_m = nan;
+  m.states = 3;
+  CHECK(message_problem(m).empty());
+
+  auto bad = m;
+  bad.verdict = "maybe";
+  CHECK_THAT(message_problem(bad), Contains("verdict 'maybe'"));
+  bad = m;
+  bad.adoption = "adopted";
+  CHECK_THAT(message_problem(bad), Contains("without verdict 'effect'"));
+  bad = m;
+  bad.adoption = "kept";
+  CHECK_THAT(message_problem(bad), Contains("adoption 'kept'"));
+  bad = m;
+  bad.values = {0.9};
+  CHECK_THAT(message_problem(bad), Contains("outside its interval"));
+  bad = m;
+  bad.num_parameters = 2;
+  CHECK_THAT(message_problem(bad), Contains("parameter_names"));
+  bad = m;
+  bad.base_held_out_mean_m = -1.0;
+  CHECK_THAT(message_problem(bad), Contains("base_held_out_mean_m"));
+  bad = m;
+  bad.seconds = -1.0;
+  CHECK_THAT(message_problem(bad), Contains("seconds"));
+}

@@ -26,7 +26,9 @@ SetScore score_set(const std::vector<TrialEvaluator*>& trials, const Material& m
     }
     for (const StageFit& stage : fit.stages) {
       StageScore row{name, stage.id, NAN, stage.nearest.mean_m};
-      if (stage.correspondence) {
+      // A stage that saw no marker (a held-out trial's earlier stages, followed for the clamps'
+      // path only) has no error to average in.
+      if (stage.correspondence && stage.correspondence->points_used > 0) {
         row.correspondence_mean_m = stage.correspondence->mean_m;
         s.mean_correspondence_m += stage.correspondence->mean_m;
         ++marker_stages;

@@ -33,8 +33,11 @@ inline twin::Material lab_material(double tensile_N_m, double shear_N_m, double 
 
 // A 0.6 x 0.5 m sheet held by three grasps through four states, the
 // truth on a `grid_m` grid, the twin's mesh of about `twin_triangles` triangles, noise sigma_m.
+// model: kTwin makes the states with the twin's own shell model on that grid instead (tests of the
+// cell's plumbing on an effect the twin has, never of accuracy).
 inline IndependentStates independent_states(const twin::Material& truth, int twin_triangles, double grid_m,
-                                            double sigma_m, unsigned seed = 3) {
+                                            double sigma_m, unsigned seed = 3,
+                                            sim_hw::TruthModel model = sim_hw::TruthModel::kIndependent) {
   const double w = 0.6, h = 0.5;
   IndependentStates out;
   out.twin_mesh = twin::make_rectangular_sheet(w, h, twin::edge_length_for_triangle_count(w, h, twin_triangles));
@@ -60,6 +63,7 @@ inline IndependentStates independent_states(const twin::Material& truth, int twi
   sheet.mesh = twin::make_rectangular_sheet(w, h, grid_m);
   sim_hw::TrueSheetOptions options;
   options.grid_spacing_m = grid_m;
+  options.model = model;
   auto physics = sim_hw::make_true_sheet_physics(sheet, truth, options);
   twin::SheetPlacement flat;
   flat.origin_m = twin::Vec3(0.0, 0.0, 1.0);
