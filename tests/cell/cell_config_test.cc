@@ -20,6 +20,9 @@ TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cel
   CHECK(c.experiment_file == examples + "four_grasp_experiment.json");
   CHECK_FALSE(c.sheet_placement_given);
   CHECK(c.cell.twin_priority == cell::WorkerPriority::kNormal);  // the default
+  CHECK(c.learning.diagnose);  // the default
+  CHECK(c.learning.diagnosis.noise_mm == 3.4);
+  CHECK(c.learning.diagnosis.effects == cell::learning::kCellEffects);
   const cell::Experiment e = cell::read_experiment(c.experiment_file);
   REQUIRE(e.states.size() == 4);
   CHECK(e.states[1].actions.at(0).kind == cell::ExperimentAction::Kind::kRelease);
@@ -36,6 +39,27 @@ TEST_CASE("cell.twin_priority reads idle and normal", "[cell]") {
   CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kNormal);
   f.config["cell"]["twin_priority"] = "idle";
   CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kIdle);
+}
+
+TEST_CASE("the learning section reads the diagnosis's settings and names a bad one", "[cell]") {
+  testing_support::TempDir dir("cell_config");
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["learning"] = {{"diagnosis_effects", {"clamp_grip", "clamp_slip"}},
+                          {"diagnosis_noise_mm", 2.5},
+                          {"diagnosis_max_evaluations", 7}};
+  const cell::CellConfig c = cell::read_cell_config(cell_test::write_files(dir, f));
+  CHECK(c.learning.diagnosis.effects == "clamp_grip,clamp_slip");
+  CHECK(c.learning.diagnosis.noise_mm == 2.5);
+  CHECK(c.learning.diagnosis.base_evaluations == 7);
+  CHECK(c.learning.diagnosis.refit_evaluations == 7);
+  f.config["learning"] = {{"diagnosis_effects", {"clamp_grip", "glue"}}};
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)),
+                    Contains("learning.diagnosis_effects") && Contains("glue"));
+  f.config["learning"] = {{"diagnosis_noise_mm", -1}};
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)), Contains("learning.diagnosis_noise_mm"));
+  f.config["learning"] = {{"record_states", false}, {"calibrate", false}, {"follow_branches", false}};
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)),
+                    Contains("learning.diagnose") && Contains("record_states"));
 }
 
 TEST_CASE("cell config errors name the file and the field", "[cell]") {
