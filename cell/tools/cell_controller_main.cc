@@ -47,12 +47,15 @@ double percentile(std::vector<double> v, double p) {
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // status lines reach a log file as they happen
   CLI::App app{"The prepreg layup cell's controller: start-up, per-cycle tracking and twin, robots"};
-  std::string config_path, lcm_url, out_dir;
+  std::string config_path, lcm_url, out_dir, material_path;
   double max_seconds = 0;
   bool no_experiment = false, exit_after = false, fault_injection = false, quiet = false;
   app.add_option("--config", config_path, "cell config JSON (cell, twin, job, tracker, cameras, arms, grippers)")->required();
   app.add_option("--lcm", lcm_url, "LCM URL (default: the config's cell.lcm_url)");
   app.add_option("--out", out_dir, "write DIR/experiment.json here");
+  app.add_option("--material", material_path,
+                 "material file to run instead of the config's twin.material_file (e.g. one the cell learned)")
+      ->check(CLI::ExistingFile);
   app.add_option("--max-seconds", max_seconds, "stop after this many seconds of cycling (0: until signalled)");
   app.add_flag("--no-experiment", no_experiment, "do not run the config's experiment; hold the ply");
   app.add_flag("--exit-after-experiment", exit_after, "stop when the experiment is done");
@@ -74,6 +77,7 @@ int main(int argc, char** argv) {
   try {
     config = cell::read_cell_config(config_path);
     if (!lcm_url.empty()) config.cell.lcm_url = lcm_url;
+    if (!material_path.empty()) config.material_file = material_path;
     if (!no_experiment && !config.experiment_file.empty()) experiment = cell::read_experiment(config.experiment_file);
     if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
   } catch (const std::exception& e) {

@@ -2,8 +2,14 @@
 // columns filled from the cycles, the truth columns from SIM_SHEET_TRUTH.
 #include <catch2/catch.hpp>
 
+#include <fstream>
+
+#include "cell/experiment_comparison.h"
 #include "cell/experiment_runner.h"
 #include "tests/cell/cell_fixture.h"
+#include "tests/support/temp_dir.h"
+
+using Catch::Matchers::Contains;
 
 using cell::CellState;
 
@@ -63,4 +69,53 @@ TEST_CASE("experiment: move and release states are applied, settled and measured
   CHECK(res[2].twin_vs_truth.mean_m > 10 * res[0].twin_vs_truth.mean_m);
   CHECK(cell::results_json(res)["states"].size() == 3);
   WARN(cell::format_results(res));
+}
+
+namespace {
+cell::StateResult state(const std::string& name, double prediction_mean_m, double truth_mean_m) {
+  cell::StateResult r;
+  r.name = name;
+  r.prediction.add(prediction_mean_m, 4 * prediction_mean_m);
+  r.alg1.add(prediction_mean_m, 4 * prediction_mean_m);
+  if (truth_mean_m > 0) {
+    r.twin_vs_truth.add(truth_mean_m, 5 * truth_mean_m);
+    r.tracked_vs_truth.add(0.004, 0.02);
+  }
+  r.cycles = 1;
+  return r;
+}
+}  // namespace
+
+TEST_CASE("two runs' experiment files read back and compare state by state", "[cell]") {
+  testing_support::TempDir dir("experiment_comparison");
+  const std::vector<cell::StateResult> before = {state("four grasps", 0.010, 0.012), state("released", 0.014, 0.016)};
+  const std::vector<cell::StateResult> after = {state("four grasps", 0.011, 0.011), state("released", 0.009, 0.0117)};
+  const auto write = [&](const std::string& name, const nlohmann::json& j) {
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << j.dump(2);
+    return path;
+  };
+  const auto b = cell::read_results_json(write("before.json", cell::results_json(before)));
+  const auto a = cell::read_results_json(write("after.json", cell::results_json(after)));
+  REQUIRE(b.size() == 2);
+  CHECK(b[1].name == "released");
+  CHECK(b[1].twin_vs_truth.mean_m == Approx(0.016));
+  CHECK(b[1].twin_vs_truth.samples == 1);
+  const std::string table = cell::format_comparison(b, a);
+  INFO(table);
+  CHECK_THAT(table, Contains(" 14.0/ 56.0 ->   9.0/ 36.0"));  // released: prediction error
+  CHECK_THAT(table, Contains(" 16.0/ 80.0 ->  11.7/ 58.5"));  // released: twin vs truth
+  CHECK_THAT(table, Contains("mean over the states     |        12.0 ->  10.0"));
+  // Without truth on the bus (a real cell) the column shows "-"; a state only one run has too.
+  const auto no_truth = cell::read_results_json(write("real.json", cell::results_json({state("four grasps", 0.01, 0)})));
+  CHECK(no_truth[0].twin_vs_truth.samples == 0);
+  CHECK_THAT(cell::format_comparison(b, no_truth), Contains("released"));
+
+  nlohmann::json bad = cell::results_json(before);
+  bad["states"][1]["twin_vs_truth"]["mean_m"] = -1;
+  CHECK_THROWS_WITH(cell::read_results_json(write("bad.json", bad)),
+                    Contains("bad.json") && Contains("states[1].twin_vs_truth.mean_m"));
+  bad = cell::results_json(before);
+  bad["format"] = "something else";
+  CHECK_THROWS_WITH(cell::read_results_json(write("bad.json", bad)), Contains("format"));
 }
