@@ -3,6 +3,7 @@
 #include <utility>
 
 #include <cmath>
+#include <initializer_list>
 #include <set>
 #include <string_view>
 #include <vector>
@@ -56,6 +57,34 @@ std::string first(S&&... problems) {
   std::string result;
   ((result.empty() && !problems.empty() ? (result = std::move(problems), 0) : 0), ...);
   return result;
+}
+
+// Fitted parameters with 95 % intervals (calibration_t, diagnosis_t): counts match, values
+// finite, each inside its own interval.
+constexpr int kMaxEstimates = 32;
+std::string estimates_problem(int count, const std::vector<std::string>& names, const std::vector<double>& values,
+                              const std::vector<double>& lower95, const std::vector<double>& upper95) {
+  std::string problem = first(count_problem("parameter_names", names, count, kMaxEstimates),
+                              count_problem("values", values, count, kMaxEstimates),
+                              count_problem("lower95", lower95, count, kMaxEstimates),
+                              count_problem("upper95", upper95, count, kMaxEstimates), finite_problem("values", values),
+                              finite_problem("lower95", lower95), finite_problem("upper95", upper95));
+  if (!problem.empty()) return problem;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!(lower95[i] <= values[i] && values[i] <= upper95[i])) {
+      return "values[" + std::to_string(i) + "] = " + std::to_string(values[i]) + " outside its interval [" +
+             std::to_string(lower95[i]) + ", " + std::to_string(upper95[i]) + "]";
+    }
+  }
+  return "";
+}
+
+// Errors in m: each >= 0, or NaN where it was not measured.
+std::string errors_problem(std::initializer_list<std::pair<const char*, double>> errors) {
+  for (const auto& [field, value] : errors) {
+    if (std::isinf(value) || value < 0) return std::string(field) + " = " + std::to_string(value) + ", expected >= 0 or NaN";
+  }
+  return "";
 }
 
 }  // namespace
@@ -188,27 +217,14 @@ std::string message_problem(const prepreg_lcm::calibration_t& msg) {
   if (msg.verdict != "adopted" && msg.verdict != "refused" && msg.verdict != "failed") {
     return "verdict '" + msg.verdict + "' is not one of adopted, refused, failed";
   }
-  constexpr int kMaxParameters = 32;
-  std::string problem = first(count_problem("parameter_names", msg.parameter_names, msg.num_parameters, kMaxParameters),
-                              count_problem("values", msg.values, msg.num_parameters, kMaxParameters),
-                              count_problem("lower95", msg.lower95, msg.num_parameters, kMaxParameters),
-                              count_problem("upper95", msg.upper95, msg.num_parameters, kMaxParameters),
-                              count_problem("determined", msg.determined, msg.num_parameters, kMaxParameters),
-                              finite_problem("values", msg.values), finite_problem("lower95", msg.lower95),
-                              finite_problem("upper95", msg.upper95));
+  std::string problem =
+      first(estimates_problem(msg.num_parameters, msg.parameter_names, msg.values, msg.lower95, msg.upper95),
+            count_problem("determined", msg.determined, msg.num_parameters, kMaxEstimates),
+            errors_problem({{"held_out_error_before_m", msg.held_out_error_before_m},
+                            {"held_out_error_after_m", msg.held_out_error_after_m},
+                            {"fitted_rms_before_m", msg.fitted_rms_before_m},
+                            {"fitted_rms_after_m", msg.fitted_rms_after_m}}));
   if (!problem.empty()) return problem;
-  for (std::size_t i = 0; i < msg.values.size(); ++i) {
-    if (!(msg.lower95[i] <= msg.values[i] && msg.values[i] <= msg.upper95[i])) {
-      return "values[" + std::to_string(i) + "] = " + std::to_string(msg.values[i]) + " outside its interval [" +
-             std::to_string(msg.lower95[i]) + ", " + std::to_string(msg.upper95[i]) + "]";
-    }
-  }
-  for (const auto& [field, value] : {std::pair{"held_out_error_before_m", msg.held_out_error_before_m},
-                                     std::pair{"held_out_error_after_m", msg.held_out_error_after_m},
-                                     std::pair{"fitted_rms_before_m", msg.fitted_rms_before_m},
-                                     std::pair{"fitted_rms_after_m", msg.fitted_rms_after_m}}) {
-    if (std::isinf(value) || value < 0) return std::string(field) + " = " + std::to_string(value) + ", expected >= 0 or NaN";
-  }
   return first(msg.states_fitted < 0 ? "states_fitted < 0" : std::string(),
                msg.states_held_out < 0 ? "states_held_out < 0" : std::string(),
                msg.simulations < 0 ? "simulations < 0" : std::string(), nonnegative_problem("seconds", msg.seconds));
@@ -224,29 +240,16 @@ std::string message_problem(const prepreg_lcm::diagnosis_t& msg) {
     return "adoption '" + msg.adoption + "' is not one of adopted, not named, refused, failed";
   }
   if (msg.adoption == "adopted" && msg.verdict != "effect") return "adoption 'adopted' without verdict 'effect'";
-  constexpr int kMaxParameters = 32;
-  std::string problem = first(count_problem("parameter_names", msg.parameter_names, msg.num_parameters, kMaxParameters),
-                              count_problem("values", msg.values, msg.num_parameters, kMaxParameters),
-                              count_problem("lower95", msg.lower95, msg.num_parameters, kMaxParameters),
-                              count_problem("upper95", msg.upper95, msg.num_parameters, kMaxParameters),
-                              finite_problem("values", msg.values), finite_problem("lower95", msg.lower95),
-                              finite_problem("upper95", msg.upper95));
+  std::string problem =
+      first(estimates_problem(msg.num_parameters, msg.parameter_names, msg.values, msg.lower95, msg.upper95),
+            errors_problem({{"noise_sigma_m", msg.noise_sigma_m},
+                            {"base_fitted_mean_m", msg.base_fitted_mean_m},
+                            {"base_held_out_mean_m", msg.base_held_out_mean_m},
+                            {"effect_fitted_mean_m", msg.effect_fitted_mean_m},
+                            {"effect_held_out_mean_m", msg.effect_held_out_mean_m},
+                            {"held_out_error_before_m", msg.held_out_error_before_m},
+                            {"held_out_error_after_m", msg.held_out_error_after_m}}));
   if (!problem.empty()) return problem;
-  for (std::size_t i = 0; i < msg.values.size(); ++i) {
-    if (!(msg.lower95[i] <= msg.values[i] && msg.values[i] <= msg.upper95[i])) {
-      return "values[" + std::to_string(i) + "] = " + std::to_string(msg.values[i]) + " outside its interval [" +
-             std::to_string(msg.lower95[i]) + ", " + std::to_string(msg.upper95[i]) + "]";
-    }
-  }
-  for (const auto& [field, value] : {std::pair{"noise_sigma_m", msg.noise_sigma_m},
-                                     std::pair{"base_fitted_mean_m", msg.base_fitted_mean_m},
-                                     std::pair{"base_held_out_mean_m", msg.base_held_out_mean_m},
-                                     std::pair{"effect_fitted_mean_m", msg.effect_fitted_mean_m},
-                                     std::pair{"effect_held_out_mean_m", msg.effect_held_out_mean_m},
-                                     std::pair{"held_out_error_before_m", msg.held_out_error_before_m},
-                                     std::pair{"held_out_error_after_m", msg.held_out_error_after_m}}) {
-    if (std::isinf(value) || value < 0) return std::string(field) + " = " + std::to_string(value) + ", expected >= 0 or NaN";
-  }
   return first(msg.states < 0 ? "states < 0" : std::string(), nonnegative_problem("seconds", msg.seconds));
 }
 
