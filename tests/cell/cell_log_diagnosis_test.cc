@@ -14,6 +14,7 @@
 
 #include "cell/cell_config.h"
 #include "cell/cell_log_cycles.h"
+#include "tests/support/lcm_log_writer.h"
 #include "tests/support/run_command.h"
 #include "tests/support/temp_dir.h"
 
@@ -51,37 +52,18 @@ prepreg_lcm::sheet_state_t sheet(std::int64_t cycle, std::int64_t utime, std::in
   return s;
 }
 
-class LogWriter {
- public:
-  explicit LogWriter(const std::string& path) : log_(path, "w") { REQUIRE(log_.good()); }
-  void write(const std::string& channel, const prepreg_lcm::sheet_state_t& m) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
-    REQUIRE(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
-    lcm::LogEvent e;
-    e.eventnum = event_++;
-    e.timestamp = m.utime;
-    e.channel = channel;
-    e.datalen = static_cast<int32_t>(bytes.size());
-    e.data = bytes.data();
-    REQUIRE(log_.writeEvent(&e) == 0);
-  }
-
- private:
-  lcm::LogFile log_;
-  std::int64_t event_ = 0;
-};
-
 constexpr std::int64_t kStart_us = 1'800'000'000'000'000;
 
 // Run 1: cycles 0-19 (bulge in 12-15), then cycle 20 observed only; run 2 (the cell started
 // again): cycles 0-2.
 void write_run_log(const std::string& path, int vertices) {
-  LogWriter log(path);
+  testing_support::LcmLogWriter log(path);
   std::mt19937 rng(3);
   const auto cycle = [&](std::int64_t id, std::int64_t t, double bulge, bool predicted) {
-    log.write("SHEET_OBSERVED", sheet(id, t, prepreg_lcm::sheet_state_t::SOURCE_OBSERVED, bulge, rng, vertices));
+    log.write("SHEET_OBSERVED", t, sheet(id, t, prepreg_lcm::sheet_state_t::SOURCE_OBSERVED, bulge, rng, vertices));
     if (predicted) {
-      log.write("SHEET_PREDICTED", sheet(id, t + 1000, prepreg_lcm::sheet_state_t::SOURCE_PREDICTED, 0, rng, vertices));
+      log.write("SHEET_PREDICTED", t + 1000,
+                sheet(id, t + 1000, prepreg_lcm::sheet_state_t::SOURCE_PREDICTED, 0, rng, vertices));
     }
   };
   for (int id = 0; id < 20; ++id) cycle(id, kStart_us + id * 50'000, id >= 12 && id < 16 ? 8e-3 : 0.0, true);

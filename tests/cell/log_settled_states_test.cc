@@ -13,29 +13,9 @@
 #include "drivers/iiwa_inverse_kinematics.h"
 #include "drivers/lcm_channels.h"
 #include "tests/cell/cell_rig.h"
+#include "tests/support/lcm_log_writer.h"
 
 namespace {
-
-class LogWriter {
- public:
-  explicit LogWriter(const std::string& path) : log_(path, "w") { REQUIRE(log_.good()); }
-  template <typename T>
-  void write(const std::string& channel, std::int64_t utime, const T& m) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
-    REQUIRE(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
-    lcm::LogEvent e;
-    e.eventnum = event_++;
-    e.timestamp = utime;
-    e.channel = channel;
-    e.datalen = static_cast<int32_t>(bytes.size());
-    e.data = bytes.data();
-    REQUIRE(log_.writeEvent(&e) == 0);
-  }
-
- private:
-  lcm::LogFile log_;
-  std::int64_t event_ = 0;
-};
 
 lcmt_iiwa_status arm_status(std::int64_t utime, const drivers::JointVector& q) {
   lcmt_iiwa_status m{};
@@ -75,7 +55,7 @@ TEST_CASE("settled states are read back from a cell run's log: jaws by forward k
   const int centre = plan.index_of("CENTER"), manual = plan.index_of("MANUAL");
   const std::string path = (dir / "run.lcmlog").string();
   {
-    LogWriter log(path);
+    testing_support::LcmLogWriter log(path);
     std::mt19937 rng(5);
     std::normal_distribution<double> noise(0.0, 0.0005);
     const std::int64_t start_us = 1'800'000'000'000'000;
