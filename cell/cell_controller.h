@@ -161,6 +161,9 @@ class CellController {
   void collect_calibration();
   void start_calibration();
   void start_diagnosis();
+  // Where calibrations and diagnoses write: set_learning_directory's, or a per-process folder
+  // under the system's temporary directory.
+  std::string learning_directory() const;
   void collect_diagnosis();
   void consider_reseed(const learning::SettledObservation& state);
   void collect_branch_job();

@@ -146,6 +146,11 @@ prepreg_lcm::diagnosis_t diagnosis_message(std::int64_t utime, std::int64_t id, 
 
 }  // namespace
 
+std::string CellController::learning_directory() const {
+  if (!learning_dir_.empty()) return learning_dir_;
+  return (fs::temp_directory_path() / fmt::format("prepreg_cell_learning_{}", ::getpid())).string();
+}
+
 void CellController::learn_from_cycle(const CycleReport& report) {
   if (!config_.learning.record_states || !twin_) return;
   collect_calibration();
@@ -244,9 +249,7 @@ void CellController::start_calibration() {
   if (settled_states_.added() == calibrated_at_added_) return;
   calibrated_at_added_ = settled_states_.added();
   const std::int64_t id = calibrations_ + 1;
-  const fs::path base = learning_dir_.empty()
-                            ? fs::temp_directory_path() / fmt::format("prepreg_cell_learning_{}", ::getpid())
-                            : fs::path(learning_dir_);
+  const fs::path base = learning_directory();
   learning::CalibrationOptions options = config_.learning.calibration;
   options.cancelled = [flag = calibration_cancelled_] { return flag->load(); };
   calibration_job_ = calibration_worker_.submit(
@@ -313,9 +316,7 @@ void CellController::start_diagnosis() {
   if (config_.learning.calibrate && calibrated_at_added_ != settled_states_.added()) return;
   diagnosed_at_added_ = settled_states_.added();
   const std::int64_t id = diagnoses_ + 1;
-  const fs::path base = learning_dir_.empty()
-                            ? fs::temp_directory_path() / fmt::format("prepreg_cell_learning_{}", ::getpid())
-                            : fs::path(learning_dir_);
+  const fs::path base = learning_directory();
   learning::DiagnosisOptions options = config_.learning.diagnosis;
   options.min_gain = config_.learning.calibration.min_gain;
   options.cancelled = [flag = calibration_cancelled_] { return flag->load(); };
