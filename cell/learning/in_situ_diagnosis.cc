@@ -3,12 +3,10 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
 
-#include "twin/model/material_parameters.h"
 
 namespace cell::learning {
 namespace {
