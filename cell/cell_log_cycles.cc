@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "drivers/lcm_channels.h"
+#include "drivers/lcm_message_checks.h"
+#include "drivers/lcm_wire_check.h"
 
 namespace cell {
 namespace {
@@ -65,7 +67,8 @@ LoggedCycles read_logged_cycles(const std::string& log_path, int vertex_count) {
     const bool observed = event->channel == ch::kSheetObserved;
     if (!observed && event->channel != ch::kSheetPredicted) continue;
     prepreg_lcm::sheet_state_t m;
-    if (m.decode(event->data, 0, static_cast<int>(event->datalen)) < 0 || m.cycle_id < 0) {
+    if (!drivers::decode_checked(event->data, static_cast<int>(event->datalen), m).empty() ||
+        !drivers::message_problem(m).empty() || m.cycle_id < 0) {
       ++out.undecodable;
       continue;
     }

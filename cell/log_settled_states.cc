@@ -10,6 +10,7 @@
 
 #include "drivers/lcm_channels.h"
 #include "drivers/lcm_message_checks.h"
+#include "drivers/lcm_wire_check.h"
 
 namespace cell {
 namespace {
@@ -18,7 +19,8 @@ namespace ch = drivers::channels;
 
 template <typename T>
 bool decode(const lcm::LogEvent& e, T& msg) {
-  return msg.decode(e.data, 0, static_cast<int>(e.datalen)) >= 0 && drivers::message_problem(msg).empty();
+  return drivers::decode_checked(e.data, static_cast<int>(e.datalen), msg).empty() &&
+         drivers::message_problem(msg).empty();
 }
 
 bool starts_with(const std::string& s, std::string_view prefix) { return s.compare(0, prefix.size(), prefix) == 0; }

@@ -103,7 +103,7 @@ std::vector<CameraConfig> read_camera_configs(const std::string& path) {
   json document;
   try {
     document = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
     throw std::runtime_error(path + ": not valid JSON: " + e.what());
   }
   return parse_camera_configs(document, path);

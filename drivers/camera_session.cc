@@ -106,7 +106,7 @@ std::vector<SessionCamera> read_session(const std::filesystem::path& dir) {
   json doc;
   try {
     doc = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", file.string(), e.what()));
   }
   const JsonField r(doc, file.string());

@@ -4,7 +4,8 @@
 // handle_for(timeout) to dispatch received messages on the caller's thread.
 //
 // Real-time rule: publish() and handle_for() never throw. A message that fails to decode (wrong
-// fingerprint, truncated, trailing bytes) or fails its check (drivers::message_problem, see
+// fingerprint, truncated, trailing bytes, array counts that cannot fit in it: lcm_wire_check.h)
+// or fails its check (drivers::message_problem, see
 // lcm_message_checks.h) is dropped and counted, never handed to the callback; an exception from a
 // callback is caught and counted. Only construction (bad URL) and subscribe() throw.
 //
@@ -18,12 +19,14 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <lcm/lcm.h>
 
 #include "drivers/lcm_message_checks.h"
+#include "drivers/lcm_wire_check.h"
 
 namespace drivers {
 
@@ -150,18 +153,16 @@ template <typename T>
 LcmBus::SubscriptionId LcmBus::subscribe_with_channel(
     const std::string& channel,
     std::function<void(const std::string& channel, const T&)> on_message) {
+  if (!has_wire_layout(T::getTypeName())) {
+    throw std::logic_error(std::string("LcmBus: no wire layout for ") + T::getTypeName() +
+                           " (add it in drivers/lcm_wire_check.cc)");
+  }
   Dispatch dispatch = [f = std::move(on_message)](const void* data, int size,
                                                   const std::string& arrived_on,
                                                   std::string& problem) {
     T msg;
-    const int used = msg.decode(data, 0, size);
-    if (used < 0 || used != size) {
-      problem = used < 0 ? "cannot decode as " + std::string(T::getTypeName()) +
-                               " (fingerprint or length)"
-                         : std::to_string(size - used) + " trailing bytes after " +
-                               std::string(T::getTypeName());
-      return Outcome::kDecodeFailed;
-    }
+    problem = decode_checked(data, size, msg);
+    if (!problem.empty()) return Outcome::kDecodeFailed;
     problem = message_problem(msg);
     if (!problem.empty()) return Outcome::kRejected;
     try {

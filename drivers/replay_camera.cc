@@ -134,6 +134,7 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
   const auto timeout = config_.read_timeout;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   bool skipped = false;
+  std::size_t corrupt_in_a_row = 0;
   for (;;) {
     if (next_ >= index_.size()) {
       if (!loop_) {
@@ -187,6 +188,12 @@ ReadStatus ReplayDepthCamera::read(DepthFrame& frame) {
     const std::size_t i = next_++;
     if (load(i, frame)) break;
     skipped = true;  // health_.message names the file
+    // With loop=1 a recording whose every frame is corrupt would be read round and round.
+    if (++corrupt_in_a_row >= index_.size()) {
+      ++health_.timeouts;
+      health_.message = fmt::format("every recorded frame is corrupt; the last: {}", health_.message);
+      return ReadStatus::kCorrupt;
+    }
   }
   if (have_last_ && frame.sequence > last_sequence_ + 1) health_.dropped += frame.sequence - last_sequence_ - 1;
   have_last_ = true;

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <limits>
+#include <optional>
 
 namespace drivers {
 namespace {
@@ -14,6 +16,14 @@ namespace {
 std::int64_t now_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
              std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// A buffer's timestamp in microseconds, or nothing when the driver's timeval is out of range
+// (negative, microseconds beyond a second, or too large for microseconds in 64 bits).
+std::optional<std::int64_t> timestamp_us(const timeval& t) {
+  constexpr std::int64_t kMaxSeconds = std::numeric_limits<std::int64_t>::max() / 1000000 - 1;
+  if (t.tv_sec < 0 || t.tv_sec > kMaxSeconds || t.tv_usec < 0 || t.tv_usec >= 1000000) return std::nullopt;
+  return static_cast<std::int64_t>(t.tv_sec) * 1000000 + t.tv_usec;
 }
 
 }  // namespace
@@ -154,8 +164,10 @@ CaptureStatus V4l2CaptureNode::next(int timeout_ms, CapturedImage& out) {
     if (xioctl(VIDIOC_DQBUF, &buf) == 0) {
       const bool ok = copy_out(buf.index, buf.bytesused, out);
       out.sequence = buf.sequence;
-      out.timestamp_us = static_cast<std::int64_t>(buf.timestamp.tv_sec) * 1000000 + buf.timestamp.tv_usec;
-      out.driver_error = (buf.flags & V4L2_BUF_FLAG_ERROR) != 0 || !ok;
+      const std::optional<std::int64_t> stamp = timestamp_us(buf.timestamp);
+      out.timestamp_us = stamp.value_or(0);
+      // A timestamp no clock gives is damage too (found by fuzzing: it overflowed here).
+      out.driver_error = (buf.flags & V4L2_BUF_FLAG_ERROR) != 0 || !ok || !stamp;
       out.monotonic_clock = (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
       if (ok && xioctl(VIDIOC_QBUF, &buf) < 0) {
         fail("VIDIOC_QBUF", errno);

@@ -130,7 +130,7 @@ TrackerConfig parse_tracker_config(const std::string& text, const std::string& s
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", source, e.what()));
   }
   TrackerConfig c;

@@ -25,6 +25,11 @@ set(PREPREG_PCH_HEADERS
   <Eigen/Core> <Eigen/SparseCore> <fmt/format.h>)
 
 option(PREPREG_PRECOMPILED_HEADERS "Precompile the headers most files share" ON)
+# Clang refuses a precompiled header made with other options (e.g. "POSIX thread support was
+# disabled in PCH file") where GCC falls back to the text, so the scheme above is GCC's only.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  set(PREPREG_PRECOMPILED_HEADERS OFF)
+endif()
 
 # Makes a holder target `name` in the calling directory (so it gets that directory's options),
 # and `name`_pic, its position-independent twin.

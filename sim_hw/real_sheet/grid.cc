@@ -64,7 +64,8 @@ std::vector<double> graded_lines(double length_m, double max_spacing_m, const st
   }
   std::sort(wanted.begin(), wanted.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   std::vector<double> fixed;
-  for (const auto& [x, priority] : wanted) {
+  for (const auto& [position, priority] : wanted) {
+    const double x = position;  // a plain variable: clang 14 cannot capture a structured binding
     const bool clear = std::all_of(fixed.begin(), fixed.end(), [&](double f) { return std::abs(f - x) >= 0.5 * spacing(x); });
     if (clear || priority == 0) fixed.push_back(x);
   }

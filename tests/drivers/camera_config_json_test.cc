@@ -82,6 +82,9 @@ TEST_CASE("camera config defaults and a file on disk", "[camera_config]") {
   testing_support::write_file(dir / "broken.json", "{\"cameras\": [");
   CHECK_THROWS_WITH(drivers::read_camera_configs((dir / "broken.json").string()),
                     Catch::Contains("broken.json") && Catch::Contains("not valid JSON"));
+  testing_support::write_file(dir / "huge.json", "{\"cameras\": [1e400]}");  // beyond a double (fuzzing)
+  CHECK_THROWS_WITH(drivers::read_camera_configs((dir / "huge.json").string()),
+                    Catch::Contains("huge.json") && Catch::Contains("not valid JSON"));
   CHECK_THROWS_WITH(drivers::read_camera_configs((dir / "missing.json").string()),
                     Catch::Contains("missing.json") && Catch::Contains("cannot open"));
 }

@@ -200,6 +200,9 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
   std::ofstream(dir / "session.json") << broken;
   CHECK_THAT(configure_error(dir.string() + "#cam_a"),
              Catch::Contains("session.json: field 'cameras[0].color_intrinsics.fx' is missing"));
+  std::ofstream(dir / "session.json") << "{\"format\": 1e400}";  // beyond a double (fuzzing)
+  CHECK_THAT(configure_error(dir.string() + "#cam_a"),
+             Catch::Contains("session.json: not valid JSON"));
   std::ofstream(dir / "session.json") << json;
 
   // A corrupt frame file at read time: skipped, named in health, the next frame delivered.
@@ -215,6 +218,26 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
   CHECK(f.sequence == 2);
   CHECK_THAT(cam.health().message, Catch::Contains("depth_000001.pgm: image is 1x1, expected 848x480"));
   CHECK(cam.health().state == drivers::CameraState::kDegraded);
+}
+
+TEST_CASE("session: a looping replay whose every frame is corrupt returns from read", "[camera_sim]") {
+  // Found by fuzzing (tests/fuzz session): with loop=1 read() went round the recording for ever.
+  const testing_support::TempDir tmp("camera_session_all_corrupt");
+  const fs::path dir = tmp / "session";
+  record(dir, 3);
+  for (const auto& entry : fs::directory_iterator(dir / "cam_a")) {
+    if (entry.path().extension() == ".pgm") std::ofstream(entry.path()) << "P5\n1 1\n65535\n\x01\x02";
+  }
+  drivers::ReplayDepthCamera cam;
+  drivers::CameraConfig c;
+  c.uri = dir.string() + "#cam_a?pace=fast&loop=1";
+  REQUIRE(cam.configure(c).ok);
+  REQUIRE(cam.activate().ok);
+  drivers::DepthFrame f;
+  CHECK(cam.read(f) == ReadStatus::kCorrupt);
+  CHECK_THAT(cam.health().message, Catch::Contains("every recorded frame is corrupt") &&
+                                       Catch::Contains(".pgm: image is 1x1"));
+  CHECK(cam.read(f) == ReadStatus::kCorrupt);  // and again, without hanging
 }
 
 TEST_CASE("session: the record_cameras tool re-records a replayed camera bit-exactly", "[camera_sim]") {

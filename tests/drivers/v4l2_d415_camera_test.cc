@@ -8,6 +8,8 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <deque>
+#include <functional>
+#include <limits>
 #include <thread>
 
 #include "drivers/monitored_depth_camera.h"
@@ -26,6 +28,7 @@ class FaultInjectingIo : public drivers::V4l2Io {
   explicit FaultInjectingIo(std::map<std::string, std::string> nodes) : io_(std::move(nodes)) {}
   std::map<unsigned long, std::deque<int>> faults;
   std::map<unsigned long, int> calls;
+  std::function<void(v4l2_buffer&)> on_dqbuf;  // alters what a successful DQBUF hands back
 
   int open(const char* p, int f) override { return io_.open(p, f); }
   int close(int fd) override { return io_.close(fd); }
@@ -37,7 +40,9 @@ class FaultInjectingIo : public drivers::V4l2Io {
       it->second.pop_front();
       return -1;
     }
-    return io_.ioctl(fd, request, arg);
+    const int r = io_.ioctl(fd, request, arg);
+    if (r == 0 && request == VIDIOC_DQBUF && on_dqbuf) on_dqbuf(*static_cast<v4l2_buffer*>(arg));
+    return r;
   }
   void* mmap(std::size_t l, int fd, off_t o) override { return io_.mmap(l, fd, o); }
   int munmap(void* a, std::size_t l) override { return io_.munmap(a, l); }
@@ -273,4 +278,22 @@ TEST_CASE("v4l2 colour is paired with the depth frame nearest in time", "[v4l2]"
   CHECK(f.rgb.empty());
   CHECK(f.color_intrinsics.width == 0);
   CHECK(f.depth_mm == depth_pattern(3));
+}
+
+TEST_CASE("v4l2 back-end flags a buffer whose timestamp no clock gives as corrupt", "[v4l2]") {
+  // Found by fuzzing (tests/fuzz v4l2_frames): tv_sec * 1000000 overflowed (undefined behaviour).
+  Rig rig;
+  drivers::V4l2D415Camera cam(rig.io);
+  REQUIRE(cam.configure(rig.config).ok);
+  REQUIRE(cam.activate().ok);
+  rig.io->on_dqbuf = [](v4l2_buffer& b) { b.timestamp.tv_sec = std::numeric_limits<decltype(b.timestamp.tv_sec)>::min(); };
+  rig.publish();
+  drivers::DepthFrame frame;
+  CHECK(cam.read(frame) == drivers::ReadStatus::kCorrupt);
+  rig.io->on_dqbuf = [](v4l2_buffer& b) { b.timestamp.tv_usec = 5'000'000; };
+  rig.publish();
+  CHECK(cam.read(frame) == drivers::ReadStatus::kCorrupt);
+  rig.io->on_dqbuf = nullptr;
+  rig.publish();
+  CHECK(cam.read(frame) == drivers::ReadStatus::kFrame);
 }

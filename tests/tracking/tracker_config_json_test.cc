@@ -64,6 +64,8 @@ TEST_CASE("tracker config: empty object gives the defaults, fields override them
 TEST_CASE("tracker config: errors name the file and the field", "[tracker][config]") {
   CHECK_THAT(error_of(R"({"fusion": {"pixel_stride": 0}})"),
              Catch::Contains("cell.json") && Catch::Contains("fusion.pixel_stride"));
+  CHECK_THAT(error_of(R"({"fusion": {"min_depth_m": 1e400}})"),  // beyond a double (fuzzing)
+             Catch::Contains("cell.json") && Catch::Contains("not valid JSON"));
   CHECK_THAT(error_of(R"({"resample": {"voxel_mm": 8}})"),
              Catch::Contains("unknown field 'resample.voxel_mm'"));
   CHECK_THAT(error_of(R"({"segmentation": {"box_min_m": [0, 0]}})"),

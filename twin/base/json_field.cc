@@ -25,7 +25,8 @@ nlohmann::json JsonField::parse_file(const std::string& path) {
   if (!in) throw std::runtime_error(path + ": cannot open file");
   try {
     return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond a double (1e400).
     throw std::runtime_error(path + ": not valid JSON: " + e.what());
   }
 }

@@ -150,4 +150,13 @@ SurfaceMesh surface_from_positions(const SheetMesh& sheet, const VecX& x) {
   return mesh;
 }
 
+SheetMesh read_flat_sheet_mesh(const std::filesystem::path& path) {
+  const SurfaceMesh mesh = read_surface_mesh(path);  // its errors name the file already
+  try {
+    return sheet_mesh_from_flat(mesh);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path.string() + ": " + e.what());
+  }
+}
+
 }  // namespace twin

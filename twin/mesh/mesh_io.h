@@ -62,6 +62,10 @@ void write_surface_mesh(const std::filesystem::path& path, const SurfaceMesh& me
 // triangle. The result passes validate_sheet_mesh (which is called, and may throw).
 SheetMesh sheet_mesh_from_flat(const SurfaceMesh& mesh, double flatness_tolerance_m = 1e-4);
 
+// A flat mesh file as a sheet: read_surface_mesh, then sheet_mesh_from_flat, whose errors are
+// then prefixed with the file's path (a sheet named in a trial, scenario or goal).
+SheetMesh read_flat_sheet_mesh(const std::filesystem::path& path);
+
 // The surface of a sheet at world positions x (3n stacked, see types.h), with the sheet's
 // triangles and its rest_uv as uv. Throws std::invalid_argument if x.size() != 3n.
 SurfaceMesh surface_from_positions(const SheetMesh& sheet, const VecX& x);

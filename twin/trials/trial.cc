@@ -67,7 +67,7 @@ double distance_to_triangle(const Vec2& a, const Vec2& b, const Vec2& c, const V
 class SheetRegion {
  public:
   explicit SheetRegion(const TrialSheet& sheet) : sheet_(sheet) {
-    if (!sheet.is_rectangle()) mesh_ = sheet_mesh_from_flat(read_surface_mesh(sheet.mesh_file));
+    if (!sheet.is_rectangle()) mesh_ = read_flat_sheet_mesh(sheet.mesh_file);
   }
 
   bool contains(const Vec2& uv_m) const {
@@ -399,7 +399,7 @@ Trial read_trial(const std::string& directory) {
 }
 
 SheetMesh trial_sheet_mesh(const Trial& trial, int target_triangles) {
-  if (!trial.sheet.is_rectangle()) return sheet_mesh_from_flat(read_surface_mesh(trial.sheet.mesh_file));
+  if (!trial.sheet.is_rectangle()) return read_flat_sheet_mesh(trial.sheet.mesh_file);
   if (target_triangles < 1) {
     throw std::invalid_argument(fmt::format("trial_sheet_mesh: target_triangles must be >= 1, got {}",
                                             target_triangles));

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/temp_dir.h"
+
 namespace twin {
 namespace {
 
@@ -141,6 +143,14 @@ TEST_CASE("the effects block reads, validates and round-trips", "[twin][material
   rejects(R"({"clamp_slip": {"compliance_m_N": -0.001}})", "compliance_m_N");
   rejects(R"({"clamp_slip": {"friction": 0.3}})", "friction");
   rejects(R"({"rest_curvature_1_m": {"uu": "a"}})", "uu");
+}
+
+TEST_CASE("a number beyond a double's range is refused naming the file", "[twin][material]") {
+  // Found by fuzzing (tests/fuzz material): nlohmann's out_of_range escaped without the file name.
+  testing_support::TempDir dir("material_overflow");
+  testing_support::write_file(dir / "prepreg.json", R"({"name": "x", "thickness_m": 1e555555555555555})");
+  CHECK_THROWS_WITH(read_material_file((dir / "prepreg.json").string()),
+                    Catch::Contains("prepreg.json") && Catch::Contains("not valid JSON"));
 }
 
 TEST_CASE("bad material values are rejected with the file and field named", "[twin][material]") {

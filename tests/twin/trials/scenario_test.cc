@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/temp_dir.h"
+
 #include <nlohmann/json.hpp>
 
 namespace twin {
@@ -36,6 +38,17 @@ TEST_CASE("a scenario file describes sheet, clamps and stages", "[twin][scenario
   CHECK_FALSE(s.stages[2].poses[0].engaged);
   CHECK(s.stages[2].poses[1].engaged);
   CHECK(s.stages[2].poses[1].rotation.isApprox(s.stages[1].poses[1].rotation));
+}
+
+TEST_CASE("a sheet mesh file that makes no sheet is refused naming the file", "[twin][scenario]") {
+  // Found by fuzzing (tests/fuzz scenario): an OBJ with vertices but no faces was refused by
+  // sheet_mesh_from_flat without saying which file it was.
+  testing_support::TempDir dir("scenario_mesh");
+  testing_support::write_file(dir / "sheet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  json j = small_scenario();
+  j["sheet"] = {{"mesh_file", "sheet.obj"}};
+  CHECK_THROWS_WITH(scenario_from_json(j, "s.json", dir.str()),
+                    Catch::Contains("sheet.obj") && Catch::Contains("no vertices or no triangles"));
 }
 
 TEST_CASE("bad scenario files are rejected with the field named", "[twin][scenario]") {

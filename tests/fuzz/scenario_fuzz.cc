@@ -1,0 +1,12 @@
+// Scenario files (twin/trials/scenario.h, with the material file they may name), as `twin
+// simulate` reads them. The input holds the files (fuzz_support.h: "%%FILE name" lines).
+#include "tests/fuzz/fuzz_support.h"
+#include "twin/trials/scenario.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  fuzz::write_scratch_files(data, size, "scenario.json");
+  const std::string dir = fuzz::scratch_dir().string();
+  const std::string path = (fuzz::scratch_dir() / "scenario.json").string();
+  fuzz::read_or_named_error(dir, [&] { (void)twin::read_scenario_file(path); });
+  return 0;
+}
