@@ -46,7 +46,10 @@ std::vector<StateResult> read_results_json(const std::string& path) {
     r.alg1 = read_averaged(s, "algorithm1");
     r.twin_vs_truth = read_averaged(s, "twin_vs_truth");
     r.tracked_vs_truth = read_averaged(s, "tracked_vs_truth");
-    r.cycles = static_cast<int>(s["window_cycles"].non_negative(""));
+    // A whole number that fits an int (1e300 cast to int is undefined behaviour).
+    const double cycles = s["window_cycles"].non_negative("");
+    if (cycles != std::floor(cycles) || cycles > 1e9) s["window_cycles"].fail("must be a whole number of cycles up to 1e9");
+    r.cycles = static_cast<int>(cycles);
     out.push_back(std::move(r));
   }
   return out;

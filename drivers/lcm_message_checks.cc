@@ -3,6 +3,7 @@
 #include <utility>
 
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <set>
 #include <string_view>
@@ -87,9 +88,22 @@ std::string errors_problem(std::initializer_list<std::pair<const char*, double>>
   return "";
 }
 
+// Times (us since the epoch): from 0 to 2^53 us (the year 2255), so that any two can be
+// subtracted (found by fuzzing: a monitor's latency overflowed on a utime near -2^63).
+constexpr std::int64_t kMaxUtime = std::int64_t{1} << 53;
+std::string times_problem(std::initializer_list<std::pair<const char*, std::int64_t>> times) {
+  for (const auto& [field, value] : times) {
+    if (value < 0 || value > kMaxUtime) {
+      return std::string(field) + " = " + std::to_string(value) + ", expected 0.." + std::to_string(kMaxUtime) + " us";
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string message_problem(const prepreg_lcm::sheet_state_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   using T = prepreg_lcm::sheet_state_t;
   const int n = msg.num_vertices;
   std::string problem = first(
@@ -121,6 +135,7 @@ std::string message_problem(const prepreg_lcm::sheet_state_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::prediction_error_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}, {"frames_utime", msg.frames_utime}, {"prediction_utime", msg.prediction_utime}}); !time.empty()) return time;
   std::string problem = first(
       msg.num_compared < 0 ? "num_compared = " + std::to_string(msg.num_compared) + " < 0"
                            : std::string(),
@@ -150,6 +165,7 @@ std::string message_problem(const prepreg_lcm::prediction_error_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::camera_status_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}, {"last_frame_utime", msg.last_frame_utime}}); !time.empty()) return time;
   using T = prepreg_lcm::camera_status_t;
   return first(msg.name.empty() ? std::string("name is empty") : std::string(),
                state_problem("state", msg.state, T::STATE_UNCONFIGURED, T::STATE_LOST),
@@ -159,6 +175,7 @@ std::string message_problem(const prepreg_lcm::camera_status_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::cell_state_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   using T = prepreg_lcm::cell_state_t;
   return first(
       state_problem("state", msg.state, T::STATE_STARTING, T::STATE_STOPPED),
@@ -171,6 +188,7 @@ std::string message_problem(const prepreg_lcm::cell_state_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::grasp_plan_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   const int n = msg.num_grasps;
   std::string problem = first(
       count_problem("material_u_m", msg.material_u_m, n, kMaxGrasps),
@@ -192,6 +210,7 @@ std::string message_problem(const prepreg_lcm::grasp_plan_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::gripper_command_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   using T = prepreg_lcm::gripper_command_t;
   return first(state_problem("action", msg.action, T::ACTION_OPEN, T::ACTION_CLOSE),
                nonnegative_problem("width_m", msg.width_m),
@@ -199,12 +218,14 @@ std::string message_problem(const prepreg_lcm::gripper_command_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::gripper_status_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   using T = prepreg_lcm::gripper_status_t;
   return first(state_problem("state", msg.state, T::STATE_OPEN, T::STATE_FAULT),
                nonnegative_problem("width_m", msg.width_m));
 }
 
 std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   if (msg.target.empty()) return "target is empty";
   static const char* const kFaults[] = {"dead", "frozen", "stale", "drop", "bumped", "status_silent", "diverge", "slow"};
   for (const char* f : kFaults) {
@@ -214,6 +235,7 @@ std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::calibration_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   if (msg.verdict != "adopted" && msg.verdict != "refused" && msg.verdict != "failed") {
     return "verdict '" + msg.verdict + "' is not one of adopted, refused, failed";
   }
@@ -231,6 +253,7 @@ std::string message_problem(const prepreg_lcm::calibration_t& msg) {
 }
 
 std::string message_problem(const prepreg_lcm::diagnosis_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   static const std::set<std::string> kVerdicts = {"effect", "none", "unexplained", "model_form", "failed"};
   static const std::set<std::string> kAdoptions = {"adopted", "not named", "refused", "failed"};
   if (!kVerdicts.count(msg.verdict)) {
@@ -254,6 +277,7 @@ std::string message_problem(const prepreg_lcm::diagnosis_t& msg) {
 }
 
 std::string message_problem(const lcmt_iiwa_command& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   return first(count_problem("joint_position", msg.joint_position, msg.num_joints, kMaxIiwaJoints),
                count_problem("joint_torque", msg.joint_torque, msg.num_torques, kMaxIiwaJoints),
                finite_problem("joint_position", msg.joint_position),
@@ -261,6 +285,7 @@ std::string message_problem(const lcmt_iiwa_command& msg) {
 }
 
 std::string message_problem(const lcmt_iiwa_status& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   const int n = msg.num_joints;
   return first(
       count_problem("joint_position_measured", msg.joint_position_measured, n, kMaxIiwaJoints),

@@ -130,8 +130,11 @@ std::string wire_problem(std::string_view type_name, const void* data, int size)
   auto left = [&] { return static_cast<std::int64_t>(size) - pos; };
   for (std::size_t i = 0; i < layout->size(); ++i) {
     const WireField& f = (*layout)[i];
-    // Elements: the count as the decoder reads it (a count <= 0 decodes as no elements).
-    const std::int64_t n = f.count_of < 0 ? 1 : std::max<std::int64_t>(0, values[f.count_of]);
+    // A negative count: lcm-gen's decode would throw std::length_error resizing to it.
+    if (f.count_of >= 0 && values[f.count_of] < 0) {
+      return (*layout)[f.count_of].name + " " + std::to_string(values[f.count_of]) + " is negative";
+    }
+    const std::int64_t n = f.count_of < 0 ? 1 : values[f.count_of];
     if (f.bytes > 0) {
       if (n > left() / f.bytes) {
         return f.count_of < 0

@@ -6,7 +6,8 @@
 // the cell allocate (and zero) 8 GB before the decode failed (found by fuzzing, issue 36). Anyone
 // on the network segment can publish such a packet. This walk reads the counts the way the
 // decoder will and refuses a message whose arrays cannot fit in the bytes that arrived, or
-// whose length is not exactly what its fields take.
+// whose length is not exactly what its fields take. A negative count is refused too (the decode
+// would throw std::length_error on it).
 //
 // The layouts are written out per type in lcm_wire_check.cc from drivers/lcmtypes/*.lcm;
 // tests/drivers/lcm_wire_check_test.cc encodes every type and checks that its layout walks

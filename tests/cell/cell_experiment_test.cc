@@ -116,6 +116,10 @@ TEST_CASE("two runs' experiment files read back and compare state by state", "[c
   CHECK_THROWS_WITH(cell::read_results_json(write("bad.json", bad)),
                     Contains("bad.json") && Contains("states[1].twin_vs_truth.mean_m"));
   bad = cell::results_json(before);
+  bad["states"][0]["window_cycles"] = 1e300;  // was cast to int: undefined behaviour
+  CHECK_THROWS_WITH(cell::read_results_json(write("bad.json", bad)),
+                    Contains("bad.json") && Contains("states[0].window_cycles"));
+  bad = cell::results_json(before);
   bad["format"] = "something else";
   CHECK_THROWS_WITH(cell::read_results_json(write("bad.json", bad)), Contains("format"));
 }

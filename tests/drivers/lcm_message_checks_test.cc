@@ -67,6 +67,14 @@ TEST_CASE("prediction error checks", "[lcm_checks]") {
   bad = m;
   bad.max_m = kNaN;
   CHECK_THAT(message_problem(bad), Contains("max_m"));
+  // Times from 0 to 2^53 us, so that the monitor's latency (utime - frames_utime) cannot
+  // overflow (found by fuzzing: frames_utime near -2^63).
+  bad = m;
+  bad.frames_utime = std::numeric_limits<std::int64_t>::min() + 1;
+  CHECK_THAT(message_problem(bad), Contains("frames_utime"));
+  bad = m;
+  bad.utime = std::int64_t{1} << 60;
+  CHECK_THAT(message_problem(bad), Contains("utime"));
 }
 
 TEST_CASE("camera, cell and gripper state checks", "[lcm_checks]") {

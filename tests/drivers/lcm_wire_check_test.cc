@@ -124,6 +124,9 @@ TEST_CASE("array counts that cannot fit in the message are refused naming the co
   put_int32(bytes, 25, 2147483647);
   const std::string problem = drivers::wire_problem("sheet_state_t", bytes.data(), static_cast<int>(bytes.size()));
   CHECK_THAT(problem, Catch::Contains("num_vertices 2147483647 needs") && Catch::Contains("x_m"));
+  put_int32(bytes, 25, -3);  // found by fuzzing: the decode threw std::length_error
+  CHECK_THAT(drivers::wire_problem("sheet_state_t", bytes.data(), static_cast<int>(bytes.size())),
+             Catch::Contains("num_vertices -3 is negative"));
   // A string array: the count alone needs four bytes per string.
   prepreg_lcm::diagnosis_t d{};
   std::vector<std::uint8_t> diag = encoded(d);

@@ -5,9 +5,8 @@
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "cell.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  const std::string path = (fuzz::scratch_dir() / "cell.json").string();
-  fuzz::read_or_named_error(dir, [&] { (void)cell::read_cell_config(path); });
+  fuzz::read_files_or_named_error(data, size, "cell.json", [](const std::string& path) {
+    (void)cell::read_cell_config(path);
+  });
   return 0;
 }

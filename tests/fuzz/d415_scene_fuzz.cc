@@ -5,9 +5,8 @@
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "scene.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  const std::string path = (fuzz::scratch_dir() / "scene.json").string();
-  fuzz::read_or_named_error(dir, [&] { (void)sim_hw::load_d415_scene_file(path); });
+  fuzz::read_files_or_named_error(data, size, "scene.json", [](const std::string& path) {
+    (void)sim_hw::load_d415_scene_file(path);
+  });
   return 0;
 }

@@ -50,6 +50,16 @@ void read_or_named_error(const std::string& expected, Read&& read) {
   }
 }
 
+// The input's files (write_scratch_files, `first_name` first), then `read(path of first_name)`;
+// when it throws, the error must name a file of the scratch directory.
+template <typename Read>
+void read_files_or_named_error(const std::uint8_t* data, std::size_t size, const std::string& first_name,
+                               Read&& read) {
+  write_scratch_files(data, size, first_name);
+  const std::string first = (scratch_dir() / first_name).string();
+  read_or_named_error(scratch_dir().string(), [&] { read(first); });
+}
+
 // The bytes as text.
 inline std::string_view as_text(const std::uint8_t* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};

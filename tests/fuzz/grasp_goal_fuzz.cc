@@ -5,10 +5,7 @@
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "goal.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  const std::string path = (fuzz::scratch_dir() / "goal.json").string();
-  fuzz::read_or_named_error(dir, [&] {
+  fuzz::read_files_or_named_error(data, size, "goal.json", [](const std::string& path) {
     const cell::GraspGoal goal = cell::read_grasp_goal(path);
     (void)cell::screening_mesh(goal);
   });

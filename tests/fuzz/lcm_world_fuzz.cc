@@ -21,10 +21,18 @@ struct World {
   sim_hw::CellWorld world{config, bus};
 };
 
+World* world = nullptr;
+
 }  // namespace
 
+// The world is built before fuzzing starts, outside the per-input timeout.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  world = new World;
+  return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static World w;
+  World& w = *world;
   for (const auto& m : fuzz::split_messages(data, size, w.channels)) {
     w.bus.publish_raw(m.channel, m.payload.data(), m.payload.size());
   }

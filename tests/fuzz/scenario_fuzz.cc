@@ -4,9 +4,8 @@
 #include "twin/trials/scenario.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "scenario.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  const std::string path = (fuzz::scratch_dir() / "scenario.json").string();
-  fuzz::read_or_named_error(dir, [&] { (void)twin::read_scenario_file(path); });
+  fuzz::read_files_or_named_error(data, size, "scenario.json", [](const std::string& path) {
+    (void)twin::read_scenario_file(path);
+  });
   return 0;
 }

@@ -5,10 +5,8 @@
 #include "twin/trials/trial.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "trial.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  fuzz::read_or_named_error(dir, [&] {
-    const twin::Trial trial = twin::read_trial(dir);
+  fuzz::read_files_or_named_error(data, size, "trial.json", [](const std::string&) {
+    const twin::Trial trial = twin::read_trial(fuzz::scratch_dir().string());
     (void)twin::trial_sheet_mesh(trial, 200);
   });
   return 0;

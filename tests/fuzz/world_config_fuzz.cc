@@ -5,10 +5,8 @@
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  fuzz::write_scratch_files(data, size, "world.json");
-  const std::string dir = fuzz::scratch_dir().string();
-  const std::string world = (fuzz::scratch_dir() / "world.json").string();
-  const std::string cell = (fuzz::scratch_dir() / "cell.json").string();
-  fuzz::read_or_named_error(dir, [&] { (void)sim_hw::read_world_config(cell, world); });
+  fuzz::read_files_or_named_error(data, size, "world.json", [](const std::string& world) {
+    (void)sim_hw::read_world_config((fuzz::scratch_dir() / "cell.json").string(), world);
+  });
   return 0;
 }
