@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages given as arguments that are not installed yet (no recommends).
-# Used by scripts/setup.sh (the project's packages) and .ci/run (clang for the sanitizer and
-# fuzzing build). PREPREG_SKIP_APT=1 skips it (machines where apt is not usable).
+# Used by scripts/setup.sh (the project's packages) and for the fuzzing build's clang
+# (docs/fuzzing.md). PREPREG_SKIP_APT=1 skips it (machines where apt is not usable).
 set -euo pipefail
 [[ "${PREPREG_SKIP_APT:-0}" == 1 ]] && exit 0
 missing=()
