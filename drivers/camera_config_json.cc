@@ -100,12 +100,7 @@ std::vector<CameraConfig> parse_camera_configs(const json& document, const std::
 std::vector<CameraConfig> read_camera_configs(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open camera config file");
-  json document;
-  try {
-    document = json::parse(in);
-  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
-    throw std::runtime_error(path + ": not valid JSON: " + e.what());
-  }
+  const json document = parse_json_stream(in, path);
   return parse_camera_configs(document, path);
 }
 

@@ -103,12 +103,7 @@ std::vector<SessionCamera> read_session(const std::filesystem::path& dir) {
   const std::filesystem::path file = dir / "session.json";
   std::ifstream in(file);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open (not a recorded session?)", file.string()));
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", file.string(), e.what()));
-  }
+  const json doc = parse_json_stream(in, file.string());
   const JsonField r(doc, file.string());
   if (r["format"].value() != kSessionFormat) r["format"].fail(fmt::format("must be \"{}\"", kSessionFormat));
   if (r["version"].integer(0, 100000) != kSessionVersion) r["version"].fail(fmt::format("must be {}", kSessionVersion));

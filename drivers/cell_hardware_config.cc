@@ -101,12 +101,7 @@ CellHardwareConfig parse_cell_hardware(const nlohmann::json& document, const std
 CellHardwareConfig read_cell_hardware(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the cell config");
-  nlohmann::json document;
-  try {
-    in >> document;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json document = parse_json_stream(in, path);
   return parse_cell_hardware(document, path);
 }
 

@@ -1,6 +1,7 @@
 #include "drivers/json_field.h"
 
 #include <cmath>
+#include <ios>
 #include <stdexcept>
 
 namespace drivers {
@@ -72,6 +73,16 @@ std::vector<double> JsonField::numbers(std::size_t n) const {
   std::vector<double> out;
   for (std::size_t i = 0; i < n; ++i) out.push_back(at(i).number());
   return out;
+}
+
+nlohmann::json parse_json_stream(std::istream& in, const std::string& source) {
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number beyond a double
+    throw std::runtime_error(source + ": not valid JSON: " + e.what());
+  } catch (const std::ios_base::failure& e) {
+    throw std::runtime_error(source + ": cannot read the file (" + e.what() + ")");
+  }
 }
 
 }  // namespace drivers

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <initializer_list>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -45,5 +46,10 @@ class JsonField {
   const nlohmann::json& value_;
   std::string where_, path_;
 };
+
+// Parses an opened JSON file; throws std::runtime_error "<source>: ..." when it is not JSON
+// (a parse error, or a number beyond a double) or cannot be read (libstdc++'s file buffer throws
+// from a failed read(), e.g. of a directory, past the stream's error flags).
+nlohmann::json parse_json_stream(std::istream& in, const std::string& source);
 
 }  // namespace drivers

@@ -58,7 +58,7 @@ SceneMesh read_mesh(const JsonField& m, const std::filesystem::path& dir) {
     if (m.has("vertices") || m.has("triangles")) m.fail("must have either 'file' or 'vertices'+'triangles'");
     std::filesystem::path file = m["file"].string();
     if (file.is_relative()) file = dir / file;
-    const twin::SurfaceMesh s = twin::read_surface_mesh(file);  // throws naming file and line
+    const twin::SurfaceMesh s = m["file"].read_named_file([&] { return twin::read_surface_mesh(file); });
     mesh.vertices = s.positions;
     mesh.triangles = s.triangles;
   } else {

@@ -112,7 +112,7 @@ void read_plan(const std::string& cell_config_path, WorldConfig& c) {
   const nlohmann::json cell = JsonField::parse_file(cell_config_path);
   const JsonField plan_file = JsonField(cell, cell_config_path)["job"]["plan_file"];
   c.plan_path = (fs::path(cell_config_path).parent_path() / plan_file.string()).string();
-  c.plan = twin::read_grasp_plan(c.plan_path);
+  c.plan = plan_file.read_named_file([&] { return twin::read_grasp_plan(c.plan_path); });
   for (const twin::Grasp& g : c.plan.grasps)
     if (!c.hardware.find_gripper(g.gripper))
       throw std::invalid_argument(c.plan_path + ": grasp of gripper \"" + g.gripper +

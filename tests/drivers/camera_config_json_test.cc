@@ -1,8 +1,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 
 #include "drivers/camera_config_json.h"
+#include "drivers/cell_hardware_config.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -87,6 +89,12 @@ TEST_CASE("camera config defaults and a file on disk", "[camera_config]") {
                     Catch::Contains("huge.json") && Catch::Contains("not valid JSON"));
   CHECK_THROWS_WITH(drivers::read_camera_configs((dir / "missing.json").string()),
                     Catch::Contains("missing.json") && Catch::Contains("cannot open"));
+  // A directory opens as a stream, then its read fails inside the parser (fuzzing, world_config).
+  std::filesystem::create_directories(dir / "folder.json");
+  CHECK_THROWS_WITH(drivers::read_camera_configs((dir / "folder.json").string()),
+                    Catch::Contains("folder.json") && Catch::Contains("cannot read the file"));
+  CHECK_THROWS_WITH(drivers::read_cell_hardware((dir / "folder.json").string()),
+                    Catch::Contains("folder.json") && Catch::Contains("cannot read the file"));
 }
 
 TEST_CASE("camera config errors name the file, camera and field", "[camera_config]") {

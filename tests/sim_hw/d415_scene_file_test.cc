@@ -102,6 +102,11 @@ TEST_CASE("scene file: errors name the file and the field", "[camera_sim]") {
   write(dir / "d.json", R"({"meshes": [{"file": "broken.ply"}]})");
   write(dir / "broken.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nabc\n");
   CHECK_THAT(load_error(dir / "d.json"), Catch::Contains("broken.ply:"));
+  // A mesh the scene names but that cannot be read: the error names the scene file and the field
+  // as well as the mesh (found by fuzzing, tests/fuzz d415_scene: it named only "/heet.obj").
+  write(dir / "g.json", R"({"meshes": [{"file": "/nonexistent/heet.obj"}]})");
+  CHECK_THAT(load_error(dir / "g.json"), Catch::Contains("g.json") && Catch::Contains("meshes[0].file") &&
+                                             Catch::Contains("/nonexistent/heet.obj"));
   write(dir / "e.json", R"({"floor": {}})");
   CHECK_THAT(load_error(dir / "e.json"), Catch::Contains("e.json") && Catch::Contains("'meshes' is missing"));
   write(dir / "f.json", "{ not json");

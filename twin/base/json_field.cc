@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <ios>
 #include <sstream>
 #include <stdexcept>
 
@@ -23,11 +24,17 @@ JsonField::JsonField(const nlohmann::json& value, std::string source, std::strin
 nlohmann::json JsonField::parse_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open file");
+  return parse_stream(in, path);
+}
+
+nlohmann::json JsonField::parse_stream(std::istream& in, const std::string& source) {
   try {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     // parse_error, and out_of_range for a number beyond a double (1e400).
-    throw std::runtime_error(path + ": not valid JSON: " + e.what());
+    throw std::runtime_error(source + ": not valid JSON: " + e.what());
+  } catch (const std::ios_base::failure& e) {
+    throw std::runtime_error(source + ": cannot read the file (" + e.what() + ")");
   }
 }
 

@@ -3,7 +3,9 @@
 // and the field ("scenario.json: field 'stages[2].clamps.B' must be ...") and says what was
 // expected. Used by every file reader of the twin (material, scenario).
 
+#include <exception>
 #include <initializer_list>
+#include <istream>
 #include <optional>
 #include <string>
 
@@ -20,6 +22,10 @@ class JsonField {
   // Reads and parses a JSON file; throws std::runtime_error naming the file (and the parser's
   // line and column) when it cannot be opened or is not JSON.
   static nlohmann::json parse_file(const std::string& path);
+  // Parses an opened file's stream; errors name `source`. Besides the parser's own errors this
+  // catches a read that fails underneath it: libstdc++'s file buffer throws from a failed read()
+  // (a path that is a directory, an I/O error), past the stream's error flags.
+  static nlohmann::json parse_stream(std::istream& in, const std::string& source);
 
   const nlohmann::json& json() const { return *value_; }
   const std::string& source() const { return source_; }
@@ -47,6 +53,18 @@ class JsonField {
   [[noreturn]] void fail(const std::string& what) const;
   // Fails naming the child `key` (which need not exist): "field 'parent.key' <what>".
   [[noreturn]] void fail_child(const std::string& key, const std::string& what) const;
+
+  // Runs `read` on the file this field names. Its error names that file, which may be anywhere;
+  // it is rethrown naming this file and field too, so a user knows which reference to fix
+  // ("scene.json: field 'meshes[0].file' names a file that cannot be used: /x.obj: cannot open").
+  template <typename Read>
+  auto read_named_file(Read&& read) const -> decltype(read()) {
+    try {
+      return read();
+    } catch (const std::exception& e) {
+      fail(std::string("names a file that cannot be used: ") + e.what());
+    }
+  }
 
  private:
   const nlohmann::json* value_;

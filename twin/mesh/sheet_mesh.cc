@@ -67,7 +67,10 @@ SheetMesh make_rectangular_sheet(double width_m, double height_m, double edge_le
   require_positive(height_m, "height_m");
   require_positive(edge_length_m, "edge_length_m");
   // Refuse absurd sizes before any search over them (a tiny edge would loop for minutes).
-  if (width_m * height_m / (edge_length_m * edge_length_m) > 2.0e6) {
+  // A long thin sheet is bounded by each side too: one row of more than 2M cells is already more
+  // than 4M triangles, and the column search below would run over half as many candidates.
+  if (width_m * height_m / (edge_length_m * edge_length_m) > 2.0e6 || width_m / edge_length_m > 2.0e6 ||
+      height_m / edge_length_m > 2.0e6) {
     throw std::invalid_argument("sheet: edge_length_m " + std::to_string(edge_length_m) +
                                 " gives more than 4M triangles");
   }

@@ -112,7 +112,8 @@ Scenario scenario_from_json(const nlohmann::json& j, const std::string& source,
   if (auto m = f.optional("material")) {
     s.material = material_from_json(m->json(), source + " (material)");
   } else {
-    s.material = read_material_file(resolve(base_directory, f["material_file"].string()));
+    const JsonField file = f["material_file"];
+    s.material = file.read_named_file([&] { return read_material_file(resolve(base_directory, file.string())); });
   }
   read_clamps(f["clamps"], s);
   ClampSet clamps;

@@ -25,7 +25,7 @@ SheetSpec read_sheet_spec(const JsonField& f, const std::string& base) {
     const std::filesystem::path p(file->string());
     const std::string path =
         p.is_absolute() || base.empty() ? p.string() : (std::filesystem::path(base) / p).string();
-    s.mesh = read_flat_sheet_mesh(path);
+    s.mesh = file->read_named_file([&] { return read_flat_sheet_mesh(path); });
     s.description = fmt::format("mesh {} ({} triangles)", path, s.mesh.triangle_count());
   } else {
     const double width = f["width_m"].positive("m");

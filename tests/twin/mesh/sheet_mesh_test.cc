@@ -60,5 +60,14 @@ TEST_CASE("invalid sheets are rejected with the cause named", "[twin][mesh]") {
   CHECK_THROWS_WITH(validate_sheet_mesh(mesh), Catch::Contains("belongs to no triangle"));
 }
 
+// Issue 36: a long, thin sheet of modest area passed the area bound, and the offset-row column
+// search then ran over about 1e12 column counts (the test timed out before the fix).
+TEST_CASE("a sheet too long for its edge length is refused before the mesh search", "[twin][mesh]") {
+  CHECK_THROWS_WITH(make_rectangular_sheet(1.0e9, 1.0e-9, 1.0e-3), Catch::Contains("more than 4M triangles"));
+  CHECK_THROWS_WITH(make_rectangular_sheet(1.0e-9, 1.0e9, 1.0e-3, TriangulationPattern::kRightTriangles),
+                    Catch::Contains("more than 4M triangles"));
+  CHECK(make_rectangular_sheet(20.0, 0.01, 0.01).triangle_count() > 0);  // 2000 x 1 cells is fine
+}
+
 }  // namespace
 }  // namespace twin

@@ -153,6 +153,16 @@ TEST_CASE("a number beyond a double's range is refused naming the file", "[twin]
                     Catch::Contains("prepreg.json") && Catch::Contains("not valid JSON"));
 }
 
+TEST_CASE("a material path that is a directory is refused naming it", "[twin][material]") {
+  // Found by fuzzing (tests/fuzz world_config): libstdc++'s file buffer throws ios_base::failure
+  // ("basic_filebuf::underflow error reading the file: Is a directory") from inside the JSON
+  // parser, and it escaped without the file name.
+  testing_support::TempDir dir("material_directory");
+  std::filesystem::create_directories(dir / "prepreg.json");
+  CHECK_THROWS_WITH(read_material_file((dir / "prepreg.json").string()),
+                    Catch::Contains("prepreg.json") && Catch::Contains("cannot read the file"));
+}
+
 TEST_CASE("bad material values are rejected with the file and field named", "[twin][material]") {
   struct Case {
     const char* field;

@@ -49,6 +49,22 @@ TEST_CASE("a sheet mesh file that makes no sheet is refused naming the file", "[
   j["sheet"] = {{"mesh_file", "sheet.obj"}};
   CHECK_THROWS_WITH(scenario_from_json(j, "s.json", dir.str()),
                     Catch::Contains("sheet.obj") && Catch::Contains("no vertices or no triangles"));
+  // A mesh file that cannot be opened: the error names the scenario and its field as well
+  // (fuzzing: "/heet.obj: cannot open for reading" alone did not say which file named it).
+  j["sheet"] = {{"mesh_file", "/nonexistent/heet.obj"}};
+  CHECK_THROWS_WITH(scenario_from_json(j, "s.json", dir.str()),
+                    Catch::Contains("s.json") && Catch::Contains("'sheet.mesh_file'") &&
+                        Catch::Contains("/nonexistent/heet.obj"));
+}
+
+TEST_CASE("a material file the scenario names but cannot be read is refused naming both", "[twin][scenario]") {
+  testing_support::TempDir dir("scenario_material");
+  json j = small_scenario();
+  j.erase("material");
+  j["material_file"] = "/nonexistent/prepreg.json";
+  CHECK_THROWS_WITH(scenario_from_json(j, "s.json", dir.str()),
+                    Catch::Contains("s.json") && Catch::Contains("'material_file'") &&
+                        Catch::Contains("/nonexistent/prepreg.json"));
 }
 
 TEST_CASE("bad scenario files are rejected with the field named", "[twin][scenario]") {
