@@ -35,8 +35,11 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:allocator_m
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 common=(-timeout=10 -rss_limit_mb=2048 -artifact_prefix="$out/" "${dict[@]}" "${extra[@]}")
 # 1. Every committed input once (the regressions among them).
+# libFuzzer's progress lines ("#1024 NEW cov: ...") and INFO lines are dropped, so that a finding's
+# message (above its stack) and the final stats are what is left to show.
+quiet() { { grep -v -E '^(#[0-9]+[[:space:]]|INFO: )' || true; } | tail -n "$1"; }
 mapfile -t inputs < <(find "$corpus" -type f | sort)
 echo "run_fuzzer.sh: $name: ${#inputs[@]} committed inputs"
-"$exe" "${common[@]}" -runs=0 "$corpus" 2>&1 | tail -n 3
+"$exe" "${common[@]}" -runs=0 "$corpus" 2>&1 | quiet 60
 # 2. Fuzzing from them for the given time.
-"$exe" "${common[@]}" -max_total_time="$seconds" -print_final_stats=1 "$out/new" "$corpus" 2>&1 | tail -n 25
+"$exe" "${common[@]}" -max_total_time="$seconds" -print_final_stats=1 "$out/new" "$corpus" 2>&1 | quiet 80

@@ -14,8 +14,6 @@
 namespace twin::diagnosis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 std::string default_name(const Trial& trial) {
   std::filesystem::path p(trial.directory);
   if (p.filename().empty()) p = p.parent_path();
