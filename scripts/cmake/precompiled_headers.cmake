@@ -25,10 +25,20 @@ set(PREPREG_PCH_HEADERS
   <Eigen/Core> <Eigen/SparseCore> <fmt/format.h>)
 
 option(PREPREG_PRECOMPILED_HEADERS "Precompile the headers most files share" ON)
-# Clang refuses a precompiled header made with other options (e.g. "POSIX thread support was
-# disabled in PCH file") where GCC falls back to the text, so the scheme above is GCC's only.
-if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+# Clang refuses a precompiled header made with other options where GCC falls back to the text.
+# The options that differ between targets are -pthread (LCM's flags bring it to the bus targets:
+# "POSIX thread support was disabled in PCH file") and -fPIC (the _pic holder). So under clang
+# every holder and every target reusing it compiles with -pthread. That is opt-in until a whole
+# clang tree has been built and tested with it (PREPREG_CLANG_PRECOMPILED_HEADERS; the libraries,
+# twin, effects and bus tests have been). Per file it compiles about as fast as GCC with its
+# header, and without a header clang parses Eigen in every file again.
+option(PREPREG_CLANG_PRECOMPILED_HEADERS "Use the precompiled headers under clang too" OFF)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang" AND NOT PREPREG_CLANG_PRECOMPILED_HEADERS)
   set(PREPREG_PRECOMPILED_HEADERS OFF)
+endif()
+set(PREPREG_PCH_CLANG_OPTIONS "")
+if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  set(PREPREG_PCH_CLANG_OPTIONS -pthread)
 endif()
 
 # Makes a holder target `name` in the calling directory (so it gets that directory's options),
@@ -40,6 +50,7 @@ function(prepreg_pch_holder name)
   foreach(holder ${name} ${name}_pic)
     add_library(${holder} STATIC ${PROJECT_SOURCE_DIR}/scripts/cmake/pch_holder.cc)
     target_link_libraries(${holder} PRIVATE Eigen3::Eigen fmt::fmt OpenMP::OpenMP_CXX)
+    target_compile_options(${holder} PRIVATE ${PREPREG_PCH_CLANG_OPTIONS})
     target_precompile_headers(${holder} PRIVATE ${PREPREG_PCH_HEADERS})
   endforeach()
   set_property(TARGET ${name}_pic PROPERTY POSITION_INDEPENDENT_CODE ON)
@@ -69,6 +80,7 @@ function(prepreg_reuse_pch directory holder)
     endif()
     target_precompile_headers(${t} REUSE_FROM ${from})
     target_link_libraries(${t} PRIVATE Eigen3::Eigen fmt::fmt OpenMP::OpenMP_CXX)
+    target_compile_options(${t} PRIVATE ${PREPREG_PCH_CLANG_OPTIONS})
   endforeach()
   get_property(subdirectories DIRECTORY ${directory} PROPERTY SUBDIRECTORIES)
   foreach(d IN LISTS subdirectories)
