@@ -29,8 +29,8 @@ option(PREPREG_PRECOMPILED_HEADERS "Precompile the headers most files share" ON)
 # The options that differ between targets are -pthread (LCM's flags bring it to the bus targets:
 # "POSIX thread support was disabled in PCH file") and -fPIC (the _pic holder). So under clang
 # every holder and every target reusing it compiles with -pthread. That is opt-in until a whole
-# clang tree has been built and tested with it (PREPREG_CLANG_PRECOMPILED_HEADERS; the libraries,
-# twin, effects and bus tests have been). Per file it compiles about as fast as GCC with its
+# clang tree has been built and tested with it (PREPREG_CLANG_PRECOMPILED_HEADERS; the twin, drivers,
+# tracking and sim_hw libraries and their tests have been, the cell's not yet). Per file it compiles about as fast as GCC with its
 # header, and without a header clang parses Eigen in every file again.
 option(PREPREG_CLANG_PRECOMPILED_HEADERS "Use the precompiled headers under clang too" OFF)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang" AND NOT PREPREG_CLANG_PRECOMPILED_HEADERS)
