@@ -69,7 +69,7 @@ std::string CycleFigures::tracker_stages_line() const {
       {"resample+index", &tracking::StageTimes::resample_ms}, {"registration", &tracking::StageTimes::registration_ms},
       {"coverage", &tracking::StageTimes::coverage_ms},       {"prediction_error", &tracking::StageTimes::prediction_error_ms}};
   for (const auto& [name, member] : stages) {
-    s += fmt::format(" {} {:.1f}", name, percentile(column([&](const TrackerCycle& t) { return t.times.*member; }), 0.5));
+    s += fmt::format(" {} {:.1f}", name, percentile(column([member = member](const TrackerCycle& t) { return t.times.*member; }), 0.5));
   }
   // Calibration runs every n-th cycle only: its p99.
   s += fmt::format(" calibration p99 {:.1f}",
