@@ -27,12 +27,12 @@ set(PREPREG_PCH_HEADERS
 option(PREPREG_PRECOMPILED_HEADERS "Precompile the headers most files share" ON)
 # Clang refuses a precompiled header made with other options where GCC falls back to the text.
 # The options that differ between targets are -pthread (LCM's flags bring it to the bus targets:
-# "POSIX thread support was disabled in PCH file") and -fPIC (the _pic holder). So under clang
-# every holder and every target reusing it compiles with -pthread. That is opt-in until a whole
-# clang tree has been built and tested with it (PREPREG_CLANG_PRECOMPILED_HEADERS; the twin, drivers,
-# tracking and sim_hw libraries and their tests have been, the cell's not yet). Per file it compiles about as fast as GCC with its
-# header, and without a header clang parses Eigen in every file again.
-option(PREPREG_CLANG_PRECOMPILED_HEADERS "Use the precompiled headers under clang too" OFF)
+# "POSIX thread support was disabled in PCH file"), -fPIC (the _pic holder) and the OpenNI2
+# plug-in's hidden visibility. So under clang every holder and every target reusing it compiles
+# with -pthread, and a target with a visibility preset keeps its own headers. Per file clang then
+# compiles about as fast as GCC with its header; without one it parses Eigen in every file again.
+# PREPREG_CLANG_PRECOMPILED_HEADERS=OFF turns the header off under clang only.
+option(PREPREG_CLANG_PRECOMPILED_HEADERS "Use the precompiled headers under clang too" ON)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang" AND NOT PREPREG_CLANG_PRECOMPILED_HEADERS)
   set(PREPREG_PRECOMPILED_HEADERS OFF)
 endif()

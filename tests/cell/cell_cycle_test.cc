@@ -20,7 +20,7 @@ cell_test::RigFiles fast_files() {
 bool is(const cell::CycleReport& r, CellState s) { return r.state == s; }
 }  // namespace
 
-TEST_CASE("cycles publish observed, predicted, error, camera status and commands", "[cell]") {
+TEST_CASE("cycles publish observed, predicted, error, camera status and commands", "[cell][real_time]") {
   cell_test::CellUnderTest t(cell_test::default_files());
   REQUIRE(t.controller->startup() == CellState::kReady);
   std::vector<double> twin_ms, tracker_ms, cycle_ms;
@@ -69,7 +69,7 @@ TEST_CASE("cycles publish observed, predicted, error, camera status and commands
 }
 
 TEST_CASE("watchdog: one camera dead -> DEGRADED, two -> SAFE_HOLD without commands, back -> RUNNING",
-          "[cell]") {
+          "[cell][real_time]") {
   cell_test::CellUnderTest t(fast_files());
   REQUIRE(t.controller->startup() == CellState::kReady);
   REQUIRE(is(t.run(2), CellState::kRunning));
@@ -100,7 +100,7 @@ TEST_CASE("watchdog: one camera dead -> DEGRADED, two -> SAFE_HOLD without comma
 }
 
 TEST_CASE("watchdog: a camera knocked out of calibration while running -> DEGRADED naming the pair, then back",
-          "[cell]") {
+          "[cell][real_time]") {
   cell_test::RigFiles files = fast_files();
   files.config["tracker"]["calibration"] = {{"every_n_cycles", 2}};
   cell_test::CellUnderTest t(files);
@@ -116,7 +116,7 @@ TEST_CASE("watchdog: a camera knocked out of calibration while running -> DEGRAD
   CHECK(r.state == CellState::kRunning);
 }
 
-TEST_CASE("watchdog: an arm whose status stops -> SAFE_HOLD naming it, then recovery", "[cell]") {
+TEST_CASE("watchdog: an arm whose status stops -> SAFE_HOLD naming it, then recovery", "[cell][real_time]") {
   cell_test::CellUnderTest t(fast_files());
   REQUIRE(t.controller->startup() == CellState::kReady);
   REQUIRE(is(t.run(2), CellState::kRunning));
@@ -132,7 +132,7 @@ TEST_CASE("watchdog: an arm whose status stops -> SAFE_HOLD naming it, then reco
   CHECK(r.state == CellState::kRunning);
 }
 
-TEST_CASE("watchdog: SIM_FAULT twin diverge -> SAFE_HOLD only with fault injection, then recovery", "[cell]") {
+TEST_CASE("watchdog: SIM_FAULT twin diverge -> SAFE_HOLD only with fault injection, then recovery", "[cell][real_time]") {
   auto fault = [](drivers::LcmBus& bus, bool active) {
     prepreg_lcm::sim_fault_t f{};
     f.utime = drivers::utime_now();
@@ -234,7 +234,7 @@ TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps sp
   }
 }
 
-TEST_CASE("malformed arm status and fault messages are dropped and counted, never acted on", "[cell]") {
+TEST_CASE("malformed arm status and fault messages are dropped and counted, never acted on", "[cell][real_time]") {
   cell_test::CellUnderTest t(fast_files(), true);
   REQUIRE(t.controller->startup() == CellState::kReady);
   REQUIRE(is(t.run(1), CellState::kRunning));

@@ -13,7 +13,7 @@ using Catch::Matchers::Contains;
 
 using cell::CellState;
 
-TEST_CASE("experiment: move and release states are applied, settled and measured", "[cell]") {
+TEST_CASE("experiment: move and release states are applied, settled and measured", "[cell][real_time]") {
   cell_test::RigFiles f = cell_test::default_files();
   f.config["tracker"]["fusion"] = {{"pixel_stride", 4}};
   cell_test::CellUnderTest t(f);

@@ -15,7 +15,7 @@
 using cell::CellState;
 
 TEST_CASE("the cell records settled states, writes them as a trial and publishes a calibration and a diagnosis of them",
-          "[cell]") {
+          "[cell][real_time]") {
   cell_test::RigFiles f = cell_test::default_files();
   f.config["tracker"]["fusion"] = {{"pixel_stride", 4}};
   f.config["learning"] = {{"calibrate", true},
