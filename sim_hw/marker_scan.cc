@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sim_hw/ordered_draws.h"
+
 namespace sim_hw {
 
 void append_marker_scan(const twin::Vec3& base_m, const twin::Vec3& normal, int points,
@@ -17,7 +19,7 @@ void append_marker_scan(const twin::Vec3& base_m, const twin::Vec3& normal, int 
     const double h = unit(rng), phi = 2.0 * M_PI * unit(rng);
     const double s = std::sqrt(std::max(0.0, 1.0 - h * h));
     const twin::Vec3 p = base_m + kMarkerDomeRadius_m * (h * n + s * (std::cos(phi) * t1 + std::sin(phi) * t2));
-    scan.push_back(p + twin::Vec3(noise(rng), noise(rng), noise(rng)));
+    scan.push_back(p + draw_vec3(noise, rng));
   }
 }
 

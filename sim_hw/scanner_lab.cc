@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim_hw/marker_scan.h"
+#include "sim_hw/ordered_draws.h"
 #include "twin/base/atomic_file.h"
 #include "twin/mesh/material_point.h"
 #include "twin/trials/stage_age.h"
@@ -46,7 +47,9 @@ std::vector<ClampPose> lab_first_stage(const std::vector<ClampSpec>& clamps, std
   std::uniform_real_distribution<double> yaw(-0.35, 0.35), shift(-0.1, 0.1), slack(0.03, 0.08), dz(-0.02, 0.02);
   twin::SheetPlacement placement;
   placement.rotation = Eigen::AngleAxisd(yaw(rng), Vec3::UnitZ()).toRotationMatrix();
-  placement.origin_m = Vec3(shift(rng), shift(rng), 1.0);
+  const double shift_y_m = shift(rng);  // y before x, as ordered_draws.h explains
+  const double shift_x_m = shift(rng);
+  placement.origin_m = Vec3(shift_x_m, shift_y_m, 1.0);
   std::vector<Vec3> flat;
   Vec3 centre = Vec3::Zero();
   for (const ClampSpec& c : clamps) {
@@ -55,7 +58,9 @@ std::vector<ClampPose> lab_first_stage(const std::vector<ClampSpec>& clamps, std
   }
   std::vector<ClampPose> poses(clamps.size());
   for (std::size_t i = 0; i < clamps.size(); ++i) {
-    poses[i].position_m = centre + (1.0 - slack(rng)) * (flat[i] - centre) + Vec3(0, 0, dz(rng));
+    const double lift_m = dz(rng);  // before the slack, as ordered_draws.h explains
+    const double pulled_in = slack(rng);
+    poses[i].position_m = centre + (1.0 - pulled_in) * (flat[i] - centre) + Vec3(0, 0, lift_m);
   }
   return poses;
 }
@@ -100,7 +105,9 @@ std::vector<std::vector<ClampPose>> lab_stages(const std::vector<ClampSpec>& cla
     ClampPose& moved = next[order[k]];
     Vec3 towards = centre - moved.position_m;
     towards.z() = 0.0;
-    Vec3 d = up(rng) * Vec3::UnitZ() + inward(rng) * towards.normalized();
+    const double inward_m = inward(rng);  // before up, as ordered_draws.h explains
+    const double up_m = up(rng);
+    Vec3 d = up_m * Vec3::UnitZ() + inward_m * towards.normalized();
     if (d.norm() > 0.35) d *= 0.35 / d.norm();
     moved.position_m += fraction_until_over_pulled(clamps, next, order[k], d) * d;
     stages.push_back(next);
@@ -257,7 +264,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       stage.poses = trial.stages.back().poses;
     } else {
       for (ClampPose pose : true_poses[s]) {
-        if (pose.engaged) pose.position_m += Vec3(probe_noise(rng), probe_noise(rng), probe_noise(rng));
+        if (pose.engaged) pose.position_m += draw_vec3(probe_noise, rng);
         stage.poses.push_back(pose);
       }
     }
@@ -274,7 +281,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
         stage.observed.markers_m.push_back(Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
         continue;
       }
-      stage.observed.markers_m.push_back(truth_markers[m] + Vec3(marker_noise(rng), marker_noise(rng), marker_noise(rng)));
+      stage.observed.markers_m.push_back(truth_markers[m] + draw_vec3(marker_noise, rng));
       if (config.raw_scans) {
         append_marker_scan(truth_markers[m], simulated.normals[s][m],
                            config.scan_points_per_marker, config.scan_noise_m, rng, scan);
@@ -290,7 +297,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
       std::uniform_real_distribution<double> unit(0.0, 1.0);
       const std::size_t strays = scan.size() / 200;
       for (std::size_t i = 0; i < strays; ++i) {
-        scan.push_back(lo + Vec3(unit(rng), unit(rng), unit(rng)).cwiseProduct(hi - lo));
+        scan.push_back(lo + draw_vec3(unit, rng).cwiseProduct(hi - lo));
       }
       stage.scan_file = stage.id + "_scan.xyz";
     }
