@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The sanitizer and fuzzing run: one clang build with ASan + UBSan and libFuzzer's edge coverage
+# (build-asan/, docs/fuzzing.md), its tests, then every fuzz harness for a while. It takes about
+# 40 minutes on 2 cores (most of it the build), which is why .ci/run does not run it yet
+# (docs/tests_and_ci.md). Installs clang with apt if it is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# 1. One clang build with ASan + UBSan and libFuzzer's edge coverage (docs/fuzzing.md): the
+#    sanitizer tests and the fuzz harnesses share its libraries, so they compile once.
+#    -O1 -g1 (line tables and function names, no variable info) is what the sanitizer reports
+#    need and compiles in well under half the time of -O2 -g with the sanitizers.
+#    Tested here: the twin (with its optional effects), the independent sheet (sim_hw/real_sheet),
+#    the drivers (config, frame monitor, V4L2 back-end over its in-process emulation, session
+#    recording, LCM bus, iiwa kinematics), the simulated D415, the fake world (arms, grippers,
+#    true sheet, a memq run with emulated cameras), the marker pipeline and the sheet tracker
+#    (also on simulated D415s), the cell controller (label cell: start-up, configs, pacing,
+#    workers, calibration monitor, settled states from a log), the terminal monitor and log tools,
+#    and grasp planning.
+#    Not here: the LD_PRELOAD shim and OpenNI2 tests (the sanitizer runtime would have to be
+#    preloaded before the shim, and OpenNI2 and PCL are uninstrumented system libraries); the
+#    cell cases that must keep the cell's 10 Hz against its watchdog limits (cell_real_time,
+#    tests/CMakeLists.txt), which this build runs some 25 times slower; the long identification,
+#    diagnosis and learning cases (one identification end to end runs below).
+bash scripts/install_packages.sh clang libclang-rt-14-dev libomp-14-dev
+CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPREPREG_SANITIZE=ON \
+  -DPREPREG_FUZZ=ON -DPREPREG_FUZZ_COVERAGE=edges \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
+  iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
+  camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests fuzz_harnesses
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --test-dir build-asan --output-on-failure -j2 \
+  -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell)$"
+# Identification end to end (lab trial, evaluator, adjoint and tangents) once under the
+# sanitizers; the other identification cases repeat the same code paths for longer.
+ctest --test-dir build-asan -R "adjoint gradient of the marker misfit" --output-on-failure
+
+# 2. Smoke fuzzing: each harness replays its committed corpus (regression inputs included), then
+#    fuzzes for 20 s (scripts/run_fuzzer.sh; PREPREG_FUZZ_SMOKE_SECONDS).
+ctest --test-dir build-asan -L fuzz_smoke --output-on-failure -j2
