@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     cell::CellMonitor monitor(bus, options, sinks);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
+    // Subscribed from here on: scripts (tests/cell/udpm_monitor_test.sh) wait for this line
+    // before they publish, and an operator sees which bus is watched.
+    fmt::print(stderr, "cell_monitor: listening on {}\n", url);
     const auto start = std::chrono::steady_clock::now();
     while (!g_stop) {
       if (max_seconds > 0 &&
