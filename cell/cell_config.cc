@@ -20,7 +20,7 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
   f.only_keys({"lcm_url", "cycle_hz", "min_cameras", "robot_status_timeout_ms", "camera_stale_ms",
                "startup_timeout_s", "camera_startup_timeout_s", "arm_status_timeout_s",
                "hold_tolerance_m", "move_speed_m_s", "joint_speed_scale", "release_timeout_s",
-               "twin_lockstep", "twin_priority"});
+               "twin_lockstep", "twin_priority", "twin_background_factorization"});
   if (auto v = f.optional("lcm_url")) s.lcm_url = v->string();
   if (auto v = f.optional("cycle_hz")) s.cycle_hz = v->positive("1/s");
   if (auto v = f.optional("min_cameras")) s.min_cameras = v->positive_integer();
@@ -42,6 +42,10 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
   if (auto v = f.optional("twin_lockstep")) {
     if (!v->json().is_boolean()) v->fail("must be true or false");
     s.twin_lockstep = v->json().get<bool>();
+  }
+  if (auto v = f.optional("twin_background_factorization")) {
+    if (!v->json().is_boolean()) v->fail("must be true or false");
+    s.twin_background_factorization = v->json().get<bool>();
   }
   if (auto v = f.optional("twin_priority")) {
     const std::optional<WorkerPriority> priority = worker_priority_from_name(v->string());

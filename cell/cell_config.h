@@ -23,12 +23,16 @@
 //                                              false: a cycle never waits, a step that is still
 //                                              running is taken up by a later cycle, and the
 //                                              next step covers the cycles it spanned)
-//            "twin_priority": "normal"},      ("idle": the twin's worker thread runs under
+//            "twin_priority": "normal",       ("idle": the twin's worker thread runs under
 //                                              Linux SCHED_IDLE, on the CPU the cycle's
 //                                              threads leave, preempted when they wake: for a
 //                                              machine that runs the cell alone, since any
 //                                              other busy process starves the twin;
 //                                              "normal": at the cycle's own priority)
+//            "twin_background_factorization": true},  (false: the twin's steps factorise on
+//                                              the twin's own thread; true: a third thread
+//                                              factorises the next step's Hessian while the
+//                                              sheet moves, twin/solvers/implicit_stepper.h)
 //   "twin": {"material_file": "composite.json",   (required; relative to this file)
 //            "sheet": {...}},                      (required; twin/trials/sheet_spec.h; without a
 //                                                    "placement" the flat start is centred under
@@ -96,6 +100,7 @@ struct CellSettings {
   double release_timeout_s = 2.0;
   bool twin_lockstep = false;
   WorkerPriority twin_priority = WorkerPriority::kNormal;
+  bool twin_background_factorization = true;
 };
 
 struct LearningSettings {

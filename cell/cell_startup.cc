@@ -128,6 +128,7 @@ CellState CellController::startup() {
     const twin::SheetPlacement placement =
         config_.sheet_placement_given ? config_.sheet.placement : placement_under_grasps(plan_);
     twin_ = std::make_unique<CellTwin>(config_.sheet.mesh, material_, plan_, placement);
+    twin_->set_background_factorization(config_.cell.twin_background_factorization);
   } catch (const std::exception& e) {
     return fail(fmt::format("twin: {} (grasp plan {}, material {})", e.what(), config_.plan_file,
                             config_.material_file));

@@ -11,7 +11,8 @@ CellTwin::CellTwin(const twin::SheetMesh& mesh, const twin::Material& material,
                    const twin::GraspPlan& plan, const twin::SheetPlacement& placement)
     : model_(std::make_unique<twin::ShellModel>(mesh, material)),
       clamps_(model_->mesh(), plan.clamp_specs()),
-      poses_(plan.grasps.size()) {
+      poses_(plan.grasps.size()),
+      step_options_(twin::background_linearized_step_options()) {
   x_ = twin::place_flat(model_->mesh(), placement);
   v_ = twin::VecX::Zero(x_.size());
   // The jaws close on the flat ply, so each clamp holds its patch turned as the ply lies.
@@ -87,7 +88,7 @@ TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_
   twin::VecX x = x_, v = v_;
   twin::SolveReport r;
   try {
-    r = stepper_->step(x, v, dt_s, clamps_, poses_, twin::linearized_step_options());
+    r = stepper_->step(x, v, dt_s, clamps_, poses_, step_options_);
   } catch (const std::exception& e) {  // the cycle must not throw (e.g. out of memory)
     result.message = std::string("twin step threw: ") + e.what();
     return result;
@@ -106,6 +107,10 @@ TwinStepResult CellTwin::step(double dt_s, const std::vector<twin::Vec3>& grasp_
     result.ok = true;
   }
   return result;
+}
+
+void CellTwin::set_background_factorization(bool on) {
+  step_options_ = on ? twin::background_linearized_step_options() : twin::linearized_step_options();
 }
 
 void CellTwin::release(int grasp) { poses_[grasp].engaged = false; }

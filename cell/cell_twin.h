@@ -53,6 +53,10 @@ class CellTwin {
   // One dynamic step of dt_s with the clamps moved to grasp_positions_m.
   TwinStepResult step(double dt_s, const std::vector<twin::Vec3>& grasp_positions_m);
 
+  // cell.twin_background_factorization: steps with twin::background_linearized_step_options
+  // (the default) or twin::linearized_step_options. Not while a step runs.
+  void set_background_factorization(bool on);
+
   // The clamp of grasp i lets go (the gripper opened); it does not grip again.
   void release(int grasp);
   bool engaged(int grasp) const { return poses_[grasp].engaged; }
@@ -79,6 +83,7 @@ class CellTwin {
   twin::VecX x_, v_;
   std::unique_ptr<twin::StaticSolver> statics_;
   std::unique_ptr<twin::ImplicitStepper> stepper_;
+  twin::StepOptions step_options_;
   twin::Mat3 jaw_rotation_ = twin::Mat3::Identity();
   bool initialised_ = false;
   std::atomic<bool> poisoned_{false};

@@ -64,6 +64,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bool lockstep = false;
   app.add_flag("--lockstep", lockstep, "cell.twin_lockstep: every cycle waits for the twin's step");
+  std::string twin_factorisation = "background";
+  app.add_option("--twin-factorisation", twin_factorisation,
+                 "cell.twin_background_factorization: background (true) or own-thread (false)")
+      ->check(CLI::IsMember({"background", "own-thread"}));
   std::string twin_priority = "normal";
   app.add_option("--twin-priority", twin_priority,
                  "cell.twin_priority of the twin's worker thread (idle: for a machine that runs the cell alone)")
@@ -93,6 +97,7 @@ int main(int argc, char** argv) {
     }
     config = cell_bench::bench_cell_config(cell_path, session_dir, hz, triangles, work);
     config.cell.twin_lockstep = lockstep;
+    config.cell.twin_background_factorization = twin_factorisation == "background";
     config.cell.twin_priority = *cell::worker_priority_from_name(twin_priority);  // checked by CLI11
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_benchmark: {}\n", e.what());
@@ -111,11 +116,11 @@ int main(int argc, char** argv) {
     } else {
       const std::string priority_problem = cell.twin_priority_problem();
       fmt::print("cell_benchmark: READY ({} cameras, pixel stride {}, twin {} triangles, {} Hz, {} OpenMP thread(s), "
-                 "twin {}, twin worker priority {})\n",
+                 "twin {}, twin worker priority {}, factorisations {})\n",
                  config.cameras.size(), config.tracker.fusion.pixel_stride, config.sheet.mesh.triangle_count(), hz,
                  threads,
                  lockstep ? "in lockstep" : "at its own pace",
-                 priority_problem.empty() ? twin_priority : "normal: " + priority_problem);
+                 priority_problem.empty() ? twin_priority : "normal: " + priority_problem, twin_factorisation);
       std::fflush(stdout);
       const std::string label = fmt::format("cell {}x{}x{} twin {} tris", config.cameras.front().depth_mode.width,
                                             config.cameras.front().depth_mode.height, config.cameras.size(),

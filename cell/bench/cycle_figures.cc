@@ -27,7 +27,11 @@ void CycleFigures::add(const cell::CycleReport& r) {
   if (r.latency_ms >= 0) latency_ms_.push_back(r.latency_ms);
   if (r.latency_ms >= 0 && r.frame_age_ms >= 0) frame_age_ms_.push_back(r.frame_age_ms);
   if (r.frames > 0) tracker_ms_.push_back(r.tracker_ms);
-  if (r.twin_stepped) twin_ms_.push_back(r.twin_step_ms);
+  if (r.twin_stepped) {
+    twin_ms_.push_back(r.twin_step_ms);
+    twin_substeps_ += r.twin_substeps;
+    max_twin_substeps_ = std::max(max_twin_substeps_, r.twin_substeps);
+  }
   cycle_ms_.push_back(r.cycle_ms);
 }
 
@@ -42,12 +46,14 @@ std::string CycleFigures::line(const std::string& label, const std::string& phas
   return fmt::format(
       "figure: {} ({}): rate {:.1f} Hz latency median {:.1f} ms p99 {:.1f} ms (frame age at read median {:.1f} p99 {:.1f})"
       " | tracker median {:.1f} p99 {:.1f} ms"
-      " | twin step median {:.1f} p99 {:.1f} ms | cycle median {:.1f} p99 {:.1f} ms | {} cycles, {} tracked,"
+      " | twin step median {:.1f} p99 {:.1f} ms (sub-steps mean {:.2f} max {}) | cycle median {:.1f} p99 {:.1f} ms | {} cycles, {} tracked,"
       " {} twin steps, {} latencies, {} goal sweeps, states: {} | {}",
       label, phase, rate_hz(), percentile(latency_ms_, 0.5), percentile(latency_ms_, 0.99),
       percentile(frame_age_ms_, 0.5), percentile(frame_age_ms_, 0.99),
       percentile(tracker_ms_, 0.5), percentile(tracker_ms_, 0.99), percentile(twin_ms_, 0.5),
-      percentile(twin_ms_, 0.99), percentile(cycle_ms_, 0.5), percentile(cycle_ms_, 0.99), cycles_, tracked_,
+      percentile(twin_ms_, 0.99),
+      twin_ms_.empty() ? 0.0 : static_cast<double>(twin_substeps_) / static_cast<double>(twin_ms_.size()),
+      max_twin_substeps_, percentile(cycle_ms_, 0.5), percentile(cycle_ms_, 0.99), cycles_, tracked_,
       twin_ms_.size(), latency_ms_.size(), sweeps_, states, load_average_line());
 }
 

@@ -31,7 +31,7 @@ class CycleFigures {
   std::string tracker_stages_line() const;
 
  private:
-  int cycles_ = 0, tracked_ = 0, sweeps_ = 0;
+  int cycles_ = 0, tracked_ = 0, sweeps_ = 0, twin_substeps_ = 0, max_twin_substeps_ = 0;
   std::chrono::steady_clock::time_point first_, last_;
   std::vector<double> latency_ms_, frame_age_ms_, tracker_ms_, twin_ms_, cycle_ms_;
   std::map<std::string, int> states_;

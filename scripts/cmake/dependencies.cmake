@@ -23,6 +23,9 @@ if(NOT TARGET Eigen3::Eigen)
   prepreg_missing("Eigen3 >= 3.4" "libeigen3-dev")
 endif()
 
+# The twin's background factorisation and the cell's workers are std::threads.
+find_package(Threads REQUIRED)
+
 find_package(OpenMP QUIET COMPONENTS CXX)
 if(NOT OpenMP_CXX_FOUND)
   prepreg_missing("OpenMP for C++ (libgomp)" "g++")

@@ -41,6 +41,17 @@ TEST_CASE("cell.twin_priority reads idle and normal", "[cell]") {
   CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kIdle);
 }
 
+TEST_CASE("cell.twin_background_factorization is on by default and reads true and false", "[cell]") {
+  testing_support::TempDir dir("cell_config");
+  cell_test::RigFiles f = cell_test::default_files();
+  CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_background_factorization);
+  f.config["cell"]["twin_background_factorization"] = false;
+  CHECK_FALSE(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_background_factorization);
+  f.config["cell"]["twin_background_factorization"] = "yes";
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)),
+                    Contains("cell.twin_background_factorization") && Contains("true or false"));
+}
+
 TEST_CASE("the learning section reads the diagnosis's settings and names a bad one", "[cell]") {
   testing_support::TempDir dir("cell_config");
   cell_test::RigFiles f = cell_test::default_files();

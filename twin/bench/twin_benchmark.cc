@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -98,6 +99,9 @@ void print_step_parts(const bench::BenchmarkSheet& sheet, const VecX& x, const V
              factorized ? "" : ", NOT positive definite", solve_ms);
 }
 
+double cg_vertex_error_m = -1.0;  // < 0: the stepper's own
+double cycle_ms = 100.0 / 3.0;     // the cell's 30 Hz
+
 int run_case(int triangles, int threads, int steps, bool converged_too) {
   omp_set_num_threads(threads);
   const bench::BenchmarkSheet sheet(triangles);
@@ -111,35 +115,69 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
   const SolveReport equilibrium = statics.solve(clamps, poses, x);
   const double static_ms = 1e3 * seconds_since(static_start);
 
-  // Time both implicit schemes from the same equilibrium, each with its own stepper.
+  // Time the implicit schemes from the same equilibrium, each with its own stepper. With
+  // `cycle_ms` > 0 each step starts on a cycle of that period, as the cell's twin steps (the
+  // time between is the background factorisation's). With `shadow`, every step is also taken
+  // from the same state by a stepper with those options (untimed), and the largest vertex
+  // distance between the two steps' results is kept.
   struct StepFigures {
     std::vector<double> ms;
-    int newton = 0, failed = 0, substeps = 0;
+    int newton = 0, failed = 0, substeps = 0, factorizations = 0, cg = 0, fallbacks = 0;
+    double largest_deviation_m = 0.0, wait_s = 0.0;
+    int background = 0;  // predicted Hessians factorised on the worker, warm-up included
     VecX x_end, v_end;  // the sheet after the last step
   };
-  auto run_steps = [&](const StepOptions& options) {
+  auto run_steps = [&](const StepOptions& options, double cycle_ms, const StepOptions* shadow) {
     StepFigures f;
-    ImplicitStepper stepper(model);
+    ImplicitStepper stepper(model), reference(model);
     VecX xs = x, v = VecX::Zero(x.size());
     const double dt = step_dt_s;
     const int warm_up = warm_up_steps;
+    auto next_cycle = Clock::now();
     for (int s = 0; s < warm_up + steps; ++s) {
       const std::vector<ClampPose> moving = sheet.circling_poses((s + 1) * dt);
+      if (cycle_ms > 0.0) {
+        std::this_thread::sleep_until(next_cycle);
+        next_cycle += std::chrono::microseconds(static_cast<long>(1e3 * cycle_ms));
+      }
+      VecX x_ref = xs, v_ref = v;
       const auto t0 = Clock::now();
       const SolveReport r = stepper.step(xs, v, dt, clamps, moving, options);
       const double ms = 1e3 * seconds_since(t0);
+      if (shadow) {
+        reference.step(x_ref, v_ref, dt, clamps, moving, *shadow);
+        for (int i = 0; i < model.vertex_count(); ++i) {
+          f.largest_deviation_m = std::max(f.largest_deviation_m, (xs.segment<3>(3 * i) - x_ref.segment<3>(3 * i)).norm());
+        }
+      }
       if (s < warm_up) continue;
       f.ms.push_back(ms);
       f.newton += r.iterations;
+      f.factorizations += r.factorizations;
+      f.cg += r.cg_iterations;
+      f.fallbacks += r.fallbacks;
+      f.wait_s += r.factor_wait_s;
       f.substeps += stepper.last_substeps();
       if (!r.usable()) ++f.failed;
     }
     f.x_end = xs;
     f.v_end = v;
+    f.background = stepper.background_factorizations();
     return f;
   };
-  const StepFigures converged = converged_too ? run_steps(default_step_options()) : StepFigures{};
-  const StepFigures linearized = run_steps(linearized_step_options());
+  const StepFigures converged = converged_too ? run_steps(default_step_options(), 0.0, nullptr) : StepFigures{};
+  // The linearised step without background factorisation: factorising on the step's thread.
+  const StepOptions factorising = linearized_step_options();
+  const StepFigures each_step = run_steps(factorising, 0.0, nullptr);
+  StepOptions background = background_linearized_step_options();
+  if (cg_vertex_error_m >= 0.0) background.newton.linear.cg_vertex_error_m = cg_vertex_error_m;
+
+  const StepFigures back_to_back = run_steps(background, 0.0, nullptr);
+  const StepFigures paced = run_steps(background, cycle_ms, nullptr);
+  // Untimed: each step also solved exactly (a factorisation of its own Hessian) from the same state.
+  StepOptions exact = factorising;
+  exact.newton.linear.reuse_factorization = false;
+  const StepFigures compared = run_steps(background, 0.0, &exact);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   fmt::print("triangles {:6d}  vertices {:6d}  threads {}  | static {:8.1f} ms  {:4d} Newton "
@@ -148,16 +186,26 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
              equilibrium.iterations, equilibrium.usable() ? "converged" : to_string(equilibrium.status),
              usage.ru_maxrss / 1024.0);
   auto print_steps = [&](const char* name, const StepFigures& f) {
-    fmt::print("    {:<14} step median {:8.2f} ms  p90 {:8.2f} ms  Newton/step {:5.2f}  "
-               "sub-steps/step {:4.2f}  failed {}\n",
+    fmt::print("    {}\n      step median {:8.2f} ms  p90 {:8.2f} ms  Newton/step {:5.2f}  "
+               "sub-steps/step {:4.2f}  failed {}\n      factorisations waited for/step {:4.2f}  "
+               "predicted ones on the worker/step {:4.2f}  waiting for the worker {:.2f} ms/step  CG iterations/step {:5.2f}  "
+               "fallbacks {}\n",
                name, percentile(f.ms, 0.5), percentile(f.ms, 0.9),
-               static_cast<double>(f.newton) / steps, static_cast<double>(f.substeps) / steps, f.failed);
+               static_cast<double>(f.newton) / steps, static_cast<double>(f.substeps) / steps, f.failed,
+               static_cast<double>(f.factorizations) / steps,
+               static_cast<double>(f.background) / (steps + warm_up_steps), 1e3 * f.wait_s / steps,
+               static_cast<double>(f.cg) / steps, f.fallbacks);
   };
   if (converged_too) print_steps("converged BE", converged);
-  print_steps("linearized BE", linearized);
-  print_step_parts(sheet, linearized.x_end, linearized.v_end, (warm_up_steps + steps + 1) * step_dt_s);
+  print_steps("linearized BE, factorising on its own thread", each_step);
+  print_steps("linearized BE, background factor, back to back", back_to_back);
+  fmt::print("      largest vertex distance from the exactly solved step's result, same states: {:.4f} mm\n",
+             1e3 * compared.largest_deviation_m);
+  const std::string paced_name = fmt::format("linearized BE, background factor, a step every {:g} ms", cycle_ms);
+  print_steps(paced_name.c_str(), paced);
+  print_step_parts(sheet, back_to_back.x_end, back_to_back.v_end, (warm_up_steps + steps + 1) * step_dt_s);
   std::fflush(stdout);
-  const int failed = converged.failed + linearized.failed;
+  const int failed = converged.failed + each_step.failed + back_to_back.failed + paced.failed + compared.failed;
   return equilibrium.usable() && failed == 0 ? 0 : 1;
 }
 
@@ -172,6 +220,9 @@ int main(int argc, char** argv) {
   app.add_option("--threads", thread_counts, "thread counts")->delimiter(',');
   app.add_option("--steps", steps, "timed implicit steps per case (after 10 warm-up steps)");
   app.add_flag("--linearized-only", linearized_only, "skip the converged backward-Euler steps");
+  app.add_option("--cg-vertex-error-m", cg_vertex_error_m,
+                 "linearized steps: CG's error bound per vertex (m; default the stepper's)");
+  app.add_option("--cycle-ms", cycle_ms, "paced linearized steps: one step per this period (ms)");
   app.add_option("--case-size", only_size)->group("");  // internal: run one case in this process
   app.add_option("--case-threads", only_threads)->group("");
   CLI11_PARSE(app, argc, argv);
@@ -191,6 +242,13 @@ int main(int argc, char** argv) {
         std::vector<const char*> args = {argv[0], "--case-size", size_arg.c_str(), "--case-threads",
                                          threads_arg.c_str(), "--steps", steps_arg.c_str()};
         if (linearized_only) args.push_back("--linearized-only");
+        const std::string error_arg = fmt::format("{}", cg_vertex_error_m), cycle_arg = fmt::format("{}", cycle_ms);
+        args.push_back("--cycle-ms");
+        args.push_back(cycle_arg.c_str());
+        if (cg_vertex_error_m >= 0.0) {
+          args.push_back("--cg-vertex-error-m");
+          args.push_back(error_arg.c_str());
+        }
         args.push_back(nullptr);
         execv("/proc/self/exe", const_cast<char* const*>(args.data()));
         _exit(127);

@@ -21,6 +21,10 @@ struct StepOptions {
   // in compression can buckle within one step; shorter steps add inertia (m/dt^2) to the
   // Hessian and make each sub-step well posed again.
   int max_substeps = 8;
+  // Background factorisation (linearized_step_options): a step after which the clamps moved
+  // less than this (m) and whose CG needed no iteration hands over no new Hessian; the sheet is
+  // at rest and the factor at hand still fits.
+  double refactorize_above_clamp_move_m = 1e-4;
 };
 
 // Backward Euler solved to convergence (residual 1e-5 of the weight) in every step.
@@ -30,6 +34,12 @@ StepOptions default_step_options();
 // it lowered the incremental potential with finite forces and speeds; it is first-order
 // accurate like the converged step but not its exact solution.
 StepOptions linearized_step_options();
+// The same with background factorisation (newton_linear_solver.h): while the sheet moves, the
+// next step's Hessian, predicted from the step just taken, is factorised on a worker thread,
+// and each step is solved by CG with the factor its predecessor predicted, to 0.01 mm per
+// vertex. It trades a factorisation on the critical path for a second Hessian assembly; the
+// result does not depend on timing.
+StepOptions background_linearized_step_options();
 
 class ImplicitStepper {
  public:
@@ -44,6 +54,8 @@ class ImplicitStepper {
                    const std::vector<ClampPose>& poses,
                    const StepOptions& options = default_step_options());
   int last_substeps() const { return last_substeps_; }
+  // Background factorisation: predicted Hessians handed to the worker so far.
+  int background_factorizations() const { return background_factorizations_; }
 
   // Picks up a material change made on the model (viscosity, mass damping, density).
   void sync_material();
@@ -51,10 +63,16 @@ class ImplicitStepper {
  private:
   SolveReport single_step(VecX& x, VecX& v, double dt_s, const ClampSet& clamps,
                           const std::vector<ClampPose>& poses, const StepOptions& options);
+  std::vector<const EnergyTerm*> step_terms() const;
+  // Background factorisation: hands the next step's Hessian, predicted with the clamps going on
+  // from `from` through `to` at the same speed, to the factorisation worker.
+  void prefactorize_next_step(const VecX& x, const VecX& v, double dt_s, const ClampSet& clamps,
+                              const std::vector<ClampPose>& from, const std::vector<ClampPose>& to);
 
   const ShellModel& model_;
   std::vector<ClampPose> previous_poses_;
   int last_substeps_ = 0;
+  int background_factorizations_ = 0;
   InertiaTerm inertia_;
   ViscosityTerm viscosity_;
   NewtonSolver newton_;

@@ -105,6 +105,9 @@ SolveReport NewtonSolver::minimize(const Objective& objective, const DofMap& dof
     const double cg_tolerance = std::min(options.linear.cg_tolerance, std::sqrt(report.residual));
     const bool solved = linear_.solve(objective, x, g, mode, options.linear, cg_tolerance, step, stats);
     report.factorizations += stats.factorizations;
+    report.cg_iterations += stats.cg_iterations;
+    report.fallbacks += stats.fallbacks;
+    report.factor_wait_s += stats.factor_wait_s;
     if (!solved) return finish(SolveStatus::kIndefinite, "");
     const double slope = g.dot(step);  // J, negative for a descent direction
     if (!(slope < 0.0)) return finish(SolveStatus::kLineSearchFailed, "not a descent direction");

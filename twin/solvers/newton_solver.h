@@ -59,6 +59,13 @@ class NewtonSolver {
   // new equilibrium is to first order. Returns x_moved unchanged if the system cannot be solved.
   VecX tangent_predictor(const Objective& objective, const DofMap& dofs, const VecX& x_old,
                          const VecX& x_moved);
+  // With background factorisation (newton_linear_solver.h): starts factorising the projected
+  // Hessian at x, where the next minimize() over this objective and dofs will start.
+  void prefactorize(const Objective& objective, const DofMap& dofs, const VecX& x) {
+    if (dofs.free_vertex_count() == 0) return;
+    linear_.prepare(objective, dofs);
+    linear_.submit_predicted(objective, x, HessianMode::kProjected);
+  }
   // Drops the reusable factorisation (after a material change, say).
   void invalidate_factorization() { linear_.invalidate(); }
 

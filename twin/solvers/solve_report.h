@@ -23,7 +23,11 @@ const char* to_string(SolveStatus status);
 struct SolveReport {
   SolveStatus status = SolveStatus::kMaxIterations;
   int iterations = 0;        // Newton iterations
-  int factorizations = 0;    // numeric Cholesky factorisations (shifted retries included)
+  int factorizations = 0;    // numeric Cholesky factorisations (shifted retries included) the
+                             // solve computed or waited for
+  int cg_iterations = 0;     // with a reused factor (newton_linear_solver.h)
+  int fallbacks = 0;         // solves whose CG missed its tolerance and waited for a new factor
+  double factor_wait_s = 0.0;  // spent waiting for background factorisations (in `seconds`)
   double residual = 0.0;     // ||free force|| / force scale at the last iterate (on failure x
                              // is back at its start, not at that iterate)
   double energy_J = 0.0;
@@ -35,6 +39,9 @@ struct SolveReport {
   void append(const SolveReport& later) {
     iterations += later.iterations;
     factorizations += later.factorizations;
+    cg_iterations += later.cg_iterations;
+    fallbacks += later.fallbacks;
+    factor_wait_s += later.factor_wait_s;
     seconds += later.seconds;
     status = later.status;
     residual = later.residual;
