@@ -29,6 +29,10 @@ void BackgroundFactorizer::submit(const HessianPattern::Matrix& upper, long tick
   {
     std::lock_guard lock(mutex_);
     if (!worker_.joinable()) worker_ = std::thread([this] { run(); });
+    // Only the newest submission is ever wanted: older ones waiting or finished are dropped.
+    queue_.clear();
+    for (Result& r : done_) spares_.emplace_back(std::move(r.factor), r.pattern_id);
+    done_.clear();
     queue_.emplace_back(ticket, std::vector<double>(upper.valuePtr(), upper.valuePtr() + upper.nonZeros()));
   }
   work_ready_.notify_one();
@@ -89,7 +93,12 @@ void BackgroundFactorizer::run() {
 
     lock.lock();
     busy_ticket_ = -1;
-    done_.push_back({ticket, ok, analysed_for, std::move(factor)});
+    const bool superseded = !queue_.empty() || (!done_.empty() && done_.back().ticket > ticket);
+    if (superseded) {
+      spares_.emplace_back(std::move(factor), analysed_for);
+    } else {
+      done_.push_back({ticket, ok, analysed_for, std::move(factor)});
+    }
     work_done_.notify_all();
   }
 }

@@ -2,9 +2,11 @@
 // Numeric Cholesky factorisations on a worker thread, so that a solver can go on with an older
 // factor (as a CG preconditioner) while a newer Hessian is factorised on the other core.
 //
-// Submitted matrices carry increasing tickets and are factorised in order. take() hands over
-// the factor of one ticket by swapping it with the caller's, so no factor is copied; the
-// caller's old one is recycled, and results older than the ticket taken are dropped. Factor
+// Submitted matrices carry increasing tickets; only the newest is ever wanted, so a submission
+// drops the older ones still waiting or finished (one being factorised runs to its end, and is
+// then dropped unless it is the newest). take() hands over the factor of a ticket by swapping it
+// with the caller's, so no factor is copied; the caller's old one is recycled. At most three
+// factor objects exist: the caller's, one finished and one in progress. Factor
 // objects are analysed (symbolically) for the current pattern on the worker, the first time
 // each is used after reset(). The worker factorises serially (one core): see sparse_cholesky.cc.
 
@@ -30,7 +32,7 @@ class BackgroundFactorizer {
   // every result and waiting submission of the old one.
   void reset(const HessianPattern::Matrix& upper);
   // Queues the factorisation of a copy of `upper` (reset()'s pattern) under `ticket`, which must
-  // be greater than every earlier one.
+  // be greater than every earlier one, in place of any older one not started.
   void submit(const HessianPattern::Matrix& upper, long ticket);
 
   struct Taken {

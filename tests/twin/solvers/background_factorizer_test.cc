@@ -38,7 +38,7 @@ TEST_CASE("background factorisations are handed over by ticket, in order", "[twi
   worker.submit(soft, 1);
   worker.submit(stiff, 2);
   std::unique_ptr<SparseCholesky> factor;
-  // Taking ticket 2 drops ticket 1's result unseen; the factor is stiff's, not soft's.
+  // Submitting ticket 2 drops ticket 1 (only the newest is wanted); the factor is stiff's.
   const BackgroundFactorizer::Taken second = worker.take(factor, 2);
   REQUIRE(second.found);
   REQUIRE(second.ok);
