@@ -93,8 +93,7 @@ void BackgroundFactorizer::run() {
 
     lock.lock();
     busy_ticket_ = -1;
-    const bool superseded = !queue_.empty() || (!done_.empty() && done_.back().ticket > ticket);
-    if (superseded) {
+    if (!queue_.empty()) {  // a newer submission is waiting: this one will not be taken
       spares_.emplace_back(std::move(factor), analysed_for);
     } else {
       done_.push_back({ticket, ok, analysed_for, std::move(factor)});
