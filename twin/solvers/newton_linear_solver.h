@@ -16,11 +16,10 @@
 // run on a worker thread (background_factorizer.h), on the other core. The caller hands over
 // the Hessian of where its next solve will be (submit_predicted: the stepper knows the next time
 // step's start), and each solve is CG preconditioned with the last submitted factor: nearly its
-// own matrix's, so CG needs 0-1 iterations. A solve waits for a factorisation only when it has
-// none yet, or when CG misses its tolerance within max_cg_iterations (a fallback, counted): it
-// then waits for the last submitted factor and tries again, and last for its own Hessian's.
-// Each solve waits, if need be, for the last submitted factor, so that the result does not
-// depend on timing. (Preconditioning with an older finished factor instead, so as never to
+// own matrix's, so CG needs 0-1 iterations. Each solve waits, if need be, for the last
+// submitted factor, so that the result does not depend on timing. With no factor at all, or
+// when CG misses its bound within max_cg_iterations (a fallback, counted), the solve has its own
+// Hessian factorised on the worker and waits for it. (Preconditioning with an older finished factor instead, so as never to
 // wait, measured worse in the cell: a factor a step old needs 7-9 CG iterations at 6k
 // triangles, and each costs about a tenth of a factorisation.)
 //
