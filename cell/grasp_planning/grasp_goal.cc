@@ -47,7 +47,16 @@ GraspSearchOptions read_search(const JsonField& f) {
     s.random_candidates = v->json().get<int>();
   }
   if (auto v = f.optional("screening_triangles")) s.screening_triangles = v->positive_integer();
-  if (auto v = f.optional("finalists")) s.finalists = v->positive_integer();
+  if (auto v = f.optional("finalists")) {
+    if (v->json().is_string() && v->json().get<std::string>() == "all") {
+      s.finalists = 0;
+    } else if (v->json().is_number_integer() && v->json().get<long long>() > 0 &&
+               v->json().get<long long>() <= 100000) {
+      s.finalists = v->json().get<int>();
+    } else {
+      v->fail("must be \"all\" or an integer from 1 to 100000");
+    }
+  }
   if (auto v = f.optional("refine_evaluations")) {
     if (!v->json().is_number_integer() || v->json().get<long long>() < 0 || v->json().get<long long>() > 10000) {
       v->fail("must be an integer from 0 (no refinement) to 10000");

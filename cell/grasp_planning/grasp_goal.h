@@ -52,7 +52,10 @@ struct GraspSearchOptions {
   std::vector<double> slack_factors = {0.04, 0.08};  // holds drawn this share toward the centre
   int random_candidates = 12;                        // extra seeded random point sets per ring
   int screening_triangles = 400;                     // coarse mesh (rectangular plies only)
-  int finalists = 3;                                 // best screened, re-simulated on the target
+  // How many of the best screened are simulated again on the target mesh and ranked there;
+  // 0 ("all" in the file, the default): every screened candidate, so the ranking is the target
+  // mesh's (the cell twin's), not the screening mesh's rough one.
+  int finalists = 0;
   int refine_evaluations = 0;                        // BOBYQA refinement of the best (0: none)
   unsigned seed = 1;
 };

@@ -8,9 +8,14 @@
 // 2. Each remaining candidate is simulated to static equilibrium (hang_evaluation.h) on the
 //    screening mesh and scored.
 // 3. Ranking: feasible before infeasible, then least sag, then largest bend radius.
-// 4. The best `finalists` are simulated again on the target mesh and ranked the same way; the
-//    first is the plan, its predicted_sag_m the target-mesh sag. When none is feasible the plan
-//    is the least bad one with feasible = false and the reason in its note.
+// 4. The best `finalists` (by default every screened candidate that reached an equilibrium) are
+//    simulated again on the target mesh, the cell twin's, and ranked the same way; the first is
+//    the plan, its predicted_sag_m the target-mesh sag. When none is feasible the plan is the
+//    least bad one with feasible = false and the reason in its note. (Ranked on the screening
+//    mesh alone, sags were off by up to 5 cm and the order with them. Carrying each screened
+//    equilibrium to the target mesh and solving there from it was tried: on the example goal it
+//    took as long as the whole path on the target mesh, 0.3-1.5 s against 0.6-0.8 s at 1539
+//    triangles, and ended up to 8 mm of sag away from it.)
 // 5. With search.refine_evaluations, a feasible plan is refined locally on the target mesh
 //    (grasp_refinement.h); an improvement becomes the plan.
 // Deterministic for a given goal (the search seed is in the goal).
@@ -31,6 +36,7 @@ struct CandidateResult {
   std::string unreachable;                // why an arm cannot reach it ("" when reachable)
   HangEvaluation screening;               // not run when unreachable
   std::optional<HangEvaluation> target;   // finalists only
+  int screening_rank = -1;                // finalists: place in the screening order (0: first)
 };
 
 struct PlannerOptions {
@@ -44,6 +50,10 @@ struct PlannerResult {
   std::vector<CandidateResult> ranked;  // every candidate, finalists first in their final order
   int candidates = 0, unreachable = 0, screened = 0, finalists = 0;
   int screening_triangles = 0, target_triangles = 0;
+  // How far the screening mesh was from the target's: the largest sag difference of a finalist
+  // (m), and where the target mesh's best finalist stood in the screening order (1: first).
+  double largest_screening_sag_error_m = 0.0;
+  int screening_rank_of_best = 0;
   int refine_evaluations = 0;           // target-mesh equilibria spent refining
   bool refined = false;                 // refinement found a better plan (ranked first)
   double refine_seconds = 0.0;

@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
                r.candidates, r.unreachable, r.screened, r.screening_triangles, r.screening_seconds, r.finalists,
                r.target_triangles, r.final_seconds, r.refine_evaluations, r.target_triangles, r.refine_seconds,
                r.refined ? "improved" : "no improvement");
+    if (r.finalists > 0) {
+      fmt::print("screening mesh vs target mesh: sags differ by up to {:.3f} m; the target's best stood {} of {} "
+                 "in the screening order\n",
+                 r.largest_screening_sag_error_m, r.screening_rank_of_best, r.finalists);
+    }
     twin::write_grasp_plan(r.plan, out_path);
     fmt::print("{}: {}\n", out_path, r.plan.note);
     if (!shape_path.empty()) {

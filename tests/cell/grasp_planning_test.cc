@@ -63,6 +63,13 @@ TEST_CASE("goal file errors name the file and the field", "[grasp_planning]") {
   CHECK_THAT(broken("/search/slack_factors", {0.7}), Catch::Contains("'search.slack_factors[0]'"));
   CHECK_THAT(broken("/folds/max_overturned_fraction", 2.0), Catch::Contains("'folds.max_overturned_fraction'"));
   CHECK_THAT(broken("/sheet/width_m", 0), Catch::Contains("'sheet.width_m'"));
+  CHECK_THAT(broken("/search/finalists", "some"), Catch::Contains("'search.finalists'") && Catch::Contains("\"all\""));
+  CHECK_THAT(broken("/search/finalists", 0), Catch::Contains("'search.finalists'"));
+  nlohmann::json all = test_goal_json();
+  all["search"]["finalists"] = "all";
+  CHECK(goal_from(all).search.finalists == 0);
+  all["search"].erase("finalists");
+  CHECK(goal_from(all).search.finalists == 0);
   CHECK_THAT(broken("/material_file", "no_such_material.json"), Catch::Contains("no_such_material.json"));
   nlohmann::json unknown = test_goal_json();
   unknown["max_sagg_m"] = 0.1;
@@ -179,6 +186,33 @@ TEST_CASE("4 grippers on the composite ply: a feasible plan whose re-simulated s
   REQUIRE(hand_hang.solved);
   INFO("hand-made sag " << hand_hang.metrics.sag_m << " m, planned " << r.plan.predicted_sag_m << " m");
   CHECK(r.plan.predicted_sag_m <= hand_hang.metrics.sag_m);
+}
+
+TEST_CASE("by default every screened candidate is ranked on the target mesh", "[grasp_planning]") {
+  nlohmann::json j = small_search_goal();
+  j["search"].erase("finalists");
+  const cell::GraspGoal goal = goal_from(j);
+  const cell::PlannerResult r = cell::plan_grasps(goal);
+  INFO(r.plan.note);
+  int solved_on_screening = 0;
+  for (const cell::CandidateResult& c : r.ranked) solved_on_screening += c.unreachable.empty() && c.screening.solved;
+  REQUIRE(solved_on_screening >= 4);
+  CHECK(r.finalists == solved_on_screening);
+  CHECK(r.screening_rank_of_best >= 1);
+  CHECK(r.screening_rank_of_best <= r.finalists);
+  CHECK(r.largest_screening_sag_error_m > 0.0);  // the meshes differ (250 and 500 triangles)
+  // The finalists lead the ranking in the target mesh's order: feasible first, then by sag.
+  for (int i = 0; i < r.finalists; ++i) {
+    const cell::CandidateResult& c = r.ranked[static_cast<std::size_t>(i)];
+    REQUIRE(c.target.has_value());
+    if (i == 0 || !c.target->solved) continue;
+    const cell::HangEvaluation& before = *r.ranked[static_cast<std::size_t>(i - 1)].target;
+    REQUIRE(before.solved);
+    CHECK(before.feasible >= c.target->feasible);
+    if (before.feasible == c.target->feasible) CHECK(before.metrics.sag_m <= c.target->metrics.sag_m);
+  }
+  REQUIRE(r.ranked.front().target->solved);
+  CHECK(r.plan.predicted_sag_m == r.ranked.front().target->metrics.sag_m);
 }
 
 TEST_CASE("the plan file round-trips every field the planner writes", "[grasp_planning]") {

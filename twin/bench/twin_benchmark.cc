@@ -1,7 +1,9 @@
 // Benchmark of the sheet twin (issue 2): the paper's composite sheet (1.17 x 0.975 m,
 // 0.3 kg/m^2, tensile 5000 N/m, shear 5000 N/m, bending 0.001 N*m) held by four clamps, on
 // meshes of about 1.5k, 6k and 24k triangles, with one and two threads. For each it prints
-// the static equilibrium from the flat sheet (time, Newton iterations), the implicit
+// the static equilibrium from the flat sheet (time, Newton iterations; then again through
+// coarser meshes of the same sheet, coarse_to_fine_statics.h, and how far apart the two
+// equilibria are), the implicit
 // backward-Euler step (dt 10 ms, median and 90th percentile over >= 100 steps after warm-up,
 // while one clamp circles so the sheet keeps moving) solved to convergence and linearised (one
 // Newton iteration, the paper engine's scheme), and the peak resident memory. Then where a
@@ -11,6 +13,7 @@
 //
 // Each (mesh, threads) case runs in its own process so peak RSS and thread settings are its own.
 // Usage: twin_benchmark [--steps N] [--sizes 1500,6000,24000] [--threads 1,2] [--linearized-only]
+//                      [--static-only]
 
 #include <omp.h>
 #include <sys/resource.h>
@@ -33,6 +36,7 @@
 #include "twin/solvers/implicit_stepper.h"
 #include "twin/model/objective.h"
 #include "twin/solvers/sparse_cholesky.h"
+#include "twin/solvers/coarse_to_fine_statics.h"
 #include "twin/solvers/static_solver.h"
 #include "twin/model/viscosity_term.h"
 
@@ -101,6 +105,48 @@ void print_step_parts(const bench::BenchmarkSheet& sheet, const VecX& x, const V
 
 double cg_vertex_error_m = -1.0;  // < 0: the stepper's own
 double cycle_ms = 100.0 / 3.0;     // the cell's 30 Hz
+bool static_only = false;          // the static equilibria only, no steps
+
+// The static equilibrium from flat again, through meshes of 1/16 and 1/4 of the triangles
+// (coarse_to_fine_statics.h), against the direct solve's (`direct`, `x_direct`). Returns whether
+// it converged.
+bool print_static_through_coarser_meshes(const bench::BenchmarkSheet& sheet, int triangles,
+                                         const SolveReport& direct, const VecX& x_direct) {
+  const ShellModel& model = sheet.model;
+  std::vector<SheetMesh> coarse;
+  for (int divisor : {16, 4}) {
+    if (triangles / divisor < 100) continue;
+    coarse.push_back(make_rectangular_sheet(
+        bench::kWidth_m, bench::kHeight_m,
+        edge_length_for_triangle_count(bench::kWidth_m, bench::kHeight_m, triangles / divisor)));
+  }
+  const auto build_start = Clock::now();
+  CoarseToFineStatics multilevel(model, sheet.clamps, std::move(coarse));
+  const double build_ms = 1e3 * seconds_since(build_start);
+  VecX xm = sheet.flat;
+  const CoarseToFineReport r = multilevel.solve(sheet.poses, xm);
+  std::string levels;
+  for (std::size_t i = 0; i < r.levels.size(); ++i) {
+    levels += fmt::format("{}{} tris {} it {:.0f} ms", i ? ", " : "", r.level_triangles[i],
+                          r.levels[i].iterations, 1e3 * r.levels[i].seconds);
+  }
+  fmt::print("    static from flat through coarser meshes {:8.1f} ms ({}; {} fallbacks; building the levels "
+             "{:.0f} ms, once) {}\n",
+             1e3 * r.total.seconds, levels, r.total.fallbacks, build_ms,
+             r.total.usable() ? "converged" : to_string(r.total.status));
+  if (r.total.usable() && direct.usable()) {
+    double largest_m = 0.0;
+    for (int v = 0; v < model.vertex_count(); ++v) {
+      largest_m = std::max(largest_m, (xm.segment<3>(3 * v) - x_direct.segment<3>(3 * v)).norm());
+    }
+    fmt::print("      vs the direct solve: largest vertex distance {:.4f} mm, energy {:.9g} J vs {:.9g} J "
+               "(relative difference {:.2e})\n",
+               1e3 * largest_m, r.total.energy_J, direct.energy_J,
+               std::abs(r.total.energy_J - direct.energy_J) / std::abs(direct.energy_J));
+  }
+  std::fflush(stdout);
+  return r.total.usable();
+}
 
 int run_case(int triangles, int threads, int steps, bool converged_too) {
   omp_set_num_threads(threads);
@@ -114,6 +160,11 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
   const auto static_start = Clock::now();
   const SolveReport equilibrium = statics.solve(clamps, poses, x);
   const double static_ms = 1e3 * seconds_since(static_start);
+  fmt::print("triangles {:6d}  vertices {:6d}  threads {}  | static {:8.1f} ms  {:4d} Newton iterations  {}\n",
+             model.mesh().triangle_count(), model.vertex_count(), threads, static_ms, equilibrium.iterations,
+             equilibrium.usable() ? "converged" : to_string(equilibrium.status));
+  const bool multilevel_solved = print_static_through_coarser_meshes(sheet, triangles, equilibrium, x);
+  if (static_only) return equilibrium.usable() && multilevel_solved ? 0 : 1;
 
   // Time the implicit schemes from the same equilibrium, each with its own stepper. With
   // `cycle_ms` > 0 each step starts on a cycle of that period, as the cell's twin steps (the
@@ -180,11 +231,7 @@ int run_case(int triangles, int threads, int steps, bool converged_too) {
   const StepFigures compared = run_steps(background, 0.0, &exact);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  fmt::print("triangles {:6d}  vertices {:6d}  threads {}  | static {:8.1f} ms  {:4d} Newton "
-             "iterations  {}  | peak RSS {:6.1f} MB\n",
-             model.mesh().triangle_count(), model.vertex_count(), threads, static_ms,
-             equilibrium.iterations, equilibrium.usable() ? "converged" : to_string(equilibrium.status),
-             usage.ru_maxrss / 1024.0);
+  fmt::print("    peak RSS {:6.1f} MB\n", usage.ru_maxrss / 1024.0);
   auto print_steps = [&](const char* name, const StepFigures& f) {
     fmt::print("    {}\n      step median {:8.2f} ms  p90 {:8.2f} ms  Newton/step {:5.2f}  "
                "sub-steps/step {:4.2f}  failed {}\n      factorisations waited for/step {:4.2f}  "
@@ -223,6 +270,7 @@ int main(int argc, char** argv) {
   app.add_option("--cg-vertex-error-m", cg_vertex_error_m,
                  "linearized steps: CG's error bound per vertex (m; default the stepper's)");
   app.add_option("--cycle-ms", cycle_ms, "paced linearized steps: one step per this period (ms)");
+  app.add_flag("--static-only", static_only, "only the static equilibria from flat (direct and through coarser meshes)");
   app.add_option("--case-size", only_size)->group("");  // internal: run one case in this process
   app.add_option("--case-threads", only_threads)->group("");
   CLI11_PARSE(app, argc, argv);
@@ -242,6 +290,7 @@ int main(int argc, char** argv) {
         std::vector<const char*> args = {argv[0], "--case-size", size_arg.c_str(), "--case-threads",
                                          threads_arg.c_str(), "--steps", steps_arg.c_str()};
         if (linearized_only) args.push_back("--linearized-only");
+        if (static_only) args.push_back("--static-only");
         const std::string error_arg = fmt::format("{}", cg_vertex_error_m), cycle_arg = fmt::format("{}", cycle_ms);
         args.push_back("--cycle-ms");
         args.push_back(cycle_arg.c_str());
