@@ -5,7 +5,7 @@
 // same in-process LCM bus. Phases: "still" (the ply held still, the usual case) and "moving"
 // (one gripper's goal moved back and forth, so the twin steps a moving clamp under load).
 //
-//   cell_benchmark [--seconds S] [--triangles 6000] [--hz 30] [--memory-every-s 60]
+//   cell_benchmark [--seconds S] [--triangles 6000] [--hz 30] [--memory-every-s 10]
 //                  [--session DIR] [--phase both|still|moving] [--threads 1] [--lockstep]
 //                  [--twin-priority idle|normal]
 //
@@ -45,7 +45,7 @@ int moving_grasp(const cell::CellController& cell) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Cell benchmark: cycle rate, latency, stage times and memory of the cell controller"};
-  double seconds = 60, hz = 30, memory_every_s = 60, record_s = 2, warmup_s = 2, sweep_m = 0.05;
+  double seconds = 60, hz = 30, memory_every_s = 10, record_s = 2, warmup_s = 2, sweep_m = 0.05;
   int triangles = 6000, threads = 1;
   std::string session, phase = "both";
   std::string cell_path = std::string(PREPREG_SOURCE_DIR) + "/cell/examples/fake_cell.json";

@@ -134,8 +134,7 @@ std::string load_average_line() {
 
 void MemorySampler::sample(double t_s) {
   const double mb = rss_mb();
-  if (first_t_s_ < 0) first_t_s_ = t_s, first_mb_ = mb;
-  last_t_s_ = t_s, last_mb_ = mb;
+  samples_.push_back({t_s, mb});
   fmt::print("memory: t={:.0f} s rss={:.1f} MB\n", t_s, mb);
   std::fflush(stdout);
 }
@@ -148,10 +147,17 @@ void MemorySampler::poll(double t_s) {
 
 void MemorySampler::finish(double t_s) {
   sample(t_s);
-  const double minutes = (last_t_s_ - first_t_s_) / 60.0;
-  fmt::print("memory growth: {:+.1f} MB from t={:.0f} s ({:.1f} MB) to t={:.0f} s ({:.1f} MB){}\n",
-             last_mb_ - first_mb_, first_t_s_, first_mb_, last_t_s_, last_mb_,
-             minutes > 0 ? fmt::format(", {:+.2f} MB/min", (last_mb_ - first_mb_) / minutes) : "");
+  const Sample& first = samples_.front();
+  const Sample& last = samples_.back();
+  const double half_s = 0.5 * (first.t_s + last.t_s);
+  const auto mid = std::find_if(samples_.begin(), samples_.end(), [&](const Sample& s) { return s.t_s >= half_s; });
+  std::string second_half = "; too few samples for the second half's rate (shorten --memory-every-s)";
+  if (mid != samples_.end() && last.t_s - mid->t_s > 0.0) {
+    second_half = fmt::format("; second half, t={:.0f} s to {:.0f} s: {:+.1f} MB, {:+.2f} MB/min", mid->t_s, last.t_s,
+                              last.mb - mid->mb, 60.0 * (last.mb - mid->mb) / (last.t_s - mid->t_s));
+  }
+  fmt::print("memory growth: {:+.1f} MB from t={:.0f} s ({:.1f} MB) to t={:.0f} s ({:.1f} MB){}\n", last.mb - first.mb,
+             first.t_s, first.mb, last.t_s, last.mb, second_half);
 }
 
 }  // namespace cell_bench

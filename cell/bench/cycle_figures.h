@@ -52,7 +52,11 @@ double rss_mb();
 std::string load_average_line();
 
 // Prints "memory: t=.. s rss=.. MB" at the first poll after warm-up and every period after;
-// finish() adds the last sample and the "memory growth" line (last - first).
+// finish() adds the last sample and the "memory growth" line: last - first, and the rate over
+// the run's second half (from the first sample at or after half-time). The cell's resident set
+// grows by tens of MB in its first seconds (buffers and factor objects reaching their working
+// sizes) and then stays flat, so a rate over the whole of a short run says nothing about a
+// leak; the second half's does.
 class MemorySampler {
  public:
   MemorySampler(double every_s, double first_at_s) : every_s_(every_s), next_s_(first_at_s) {}
@@ -60,9 +64,12 @@ class MemorySampler {
   void finish(double t_s);
 
  private:
+  struct Sample {
+    double t_s, mb;
+  };
   void sample(double t_s);
   double every_s_, next_s_;
-  double first_t_s_ = -1, first_mb_ = 0, last_t_s_ = -1, last_mb_ = 0;
+  std::vector<Sample> samples_;
 };
 
 }  // namespace cell_bench
