@@ -19,7 +19,7 @@ cd "$(dirname "$0")/.."
 #    true sheet, a memq run with emulated cameras), the marker pipeline and the sheet tracker
 #    (also on simulated D415s), the cell controller (label cell: start-up, configs, pacing,
 #    workers, calibration monitor, settled states from a log), the terminal monitor and log tools,
-#    and grasp planning.
+#    grasp planning, and `twin batch` (manifests, several small diagnoses, resuming).
 #    Not here: the LD_PRELOAD shim and OpenNI2 tests (the sanitizer runtime would have to be
 #    preloaded before the shim, and OpenNI2 and PCL are uninstrumented system libraries); the
 #    cell cases that must keep the cell's 10 Hz against its watchdog limits (cell_real_time,
@@ -31,11 +31,11 @@ CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo 
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
 cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
   iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
-  camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests fuzz_harnesses
+  camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests batch_tests fuzz_harnesses
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two cores (scripts/test.sh)
 ctest --test-dir build-asan --output-on-failure -j2 \
-  -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell)$"
+  -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell|batch)$"
 # Identification end to end (lab trial, evaluator, adjoint and tangents) once under the
 # sanitizers; the other identification cases repeat the same code paths for longer.
 ctest --test-dir build-asan -R "adjoint gradient of the marker misfit" --output-on-failure

@@ -276,6 +276,11 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     out.after_train = out.verdict.chosen->train;
     out.after_test = out.verdict.chosen->test;
   }
+  out.material = record.base.material;
+  if (out.verdict.verdict == "effect" && out.verdict.chosen) {
+    out.material = out.verdict.chosen->result.material;
+    out.material.name = record.base.material.name + " + " + *out.verdict.effect;
+  }
   out.summary_text = write_diagnosis_files(o, out, record, candidates);
   out.verdict.chosen = nullptr;  // pointed into the record, which ends here
   return out;

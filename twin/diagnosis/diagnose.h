@@ -61,6 +61,9 @@ struct DiagnoseOutcome {
   // With the named effect (verdict "effect"), or the closest candidate ("unexplained"):
   std::vector<ParameterEstimate> parameters;  // every fitted parameter, 95 % intervals
   std::optional<SetScore> after_train, after_test;
+  // The material as characterised: with the named effect (verdict "effect", as in
+  // material_augmented.json), else the base fit's.
+  Material material;
   std::string summary_text;    // the terminal summary
 };
 

@@ -3,6 +3,7 @@
 //   twin material FILE                 check a material file and print what the twin will use
 //   twin identify --train DIR... --out FILE   material parameters from scanned trials
 //   twin diagnose --train DIR... --test DIR... --report OUT   find, name and add a missing effect
+//   twin batch MANIFEST --out DIR      diagnose many materials; resumes where it stopped
 // Exit status: 0 success, 1 bad input (the message names the file and field), 2 a stage did
 // not converge (its result is not written; later stages are skipped because they depend on it).
 
@@ -16,6 +17,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "batch_command.h"
 #include "diagnose_command.h"
 #include "identify_command.h"
 #include "twin/base/atomic_file.h"
@@ -154,6 +156,9 @@ int main(int argc, char** argv) {
   twin_cli::DiagnoseArguments diagnose;
   CLI::App* diagnose_cmd = twin_cli::add_diagnose_command(app, diagnose);
 
+  twin_cli::BatchArguments batch;
+  CLI::App* batch_cmd = twin_cli::add_batch_command(app, batch);
+
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
@@ -161,6 +166,7 @@ int main(int argc, char** argv) {
     if (*material_cmd) return describe_material(material);
     if (*identify_cmd) return twin_cli::run_identify(identify);
     if (*diagnose_cmd) return twin_cli::run_diagnose(diagnose);
+    if (*batch_cmd) return twin_cli::run_batch_command(batch);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

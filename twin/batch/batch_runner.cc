@@ -1,0 +1,142 @@
+#include "twin/batch/batch_runner.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "twin/base/atomic_file.h"
+#include "twin/model/material.h"
+
+namespace twin::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The done.json of an earlier run for this very entry, if there is one.
+std::optional<BatchRow> finished_row(const fs::path& dir, const BatchMaterial& material) {
+  std::ifstream in(dir / "done.json");
+  if (!in) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("fingerprint").get<std::string>() != material.fingerprint) return std::nullopt;
+    if (!fs::is_regular_file(dir / "material.json")) return std::nullopt;
+    BatchRow row = row_from_json(j.at("row"));
+    row.status = "already done";
+    return row;
+  } catch (const std::exception&) {
+    return std::nullopt;  // unreadable: redo it
+  }
+}
+
+BatchRow diagnose_material(const BatchManifest& manifest, const BatchMaterial& material, const fs::path& dir,
+                           const BatchOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  BatchRow row;
+  row.name = material.name;
+  diagnosis::DiagnoseOptions o = manifest.diagnose;
+  o.train = material.train;
+  o.test = material.test;
+  o.material = material.material;
+  o.report = dir.string();
+  if (options.progress) o.progress = [&](const std::string& line) { options.progress(material.name + ": " + line); };
+  try {
+    const diagnosis::DiagnoseOutcome outcome = diagnosis::run_diagnosis(o);
+    write_material_file((dir / "material.json").string(), outcome.material);
+    row.status = "done";
+    row.verdict = outcome.verdict.verdict;
+    row.effect = outcome.verdict.effect.value_or("");
+    row.held_out_before_mm = 1e3 * outcome.base_test.mean_correspondence_m;
+    row.held_out_after_mm = outcome.after_test ? 1e3 * outcome.after_test->mean_correspondence_m : 0.0;
+    row.noise_sigma_mm = 1e3 * outcome.sigma_m;
+  } catch (const std::exception& e) {
+    row.status = "failed";
+    row.error = e.what();
+  }
+  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return row;
+}
+
+}  // namespace
+
+nlohmann::json row_json(const BatchRow& r) {
+  return {{"name", r.name},
+          {"status", r.status},
+          {"verdict", r.verdict},
+          {"effect", r.effect},
+          {"held_out_before_mm", r.held_out_before_mm},
+          {"held_out_after_mm", r.held_out_after_mm},
+          {"noise_sigma_mm", r.noise_sigma_mm},
+          {"seconds", r.seconds},
+          {"error", r.error}};
+}
+
+BatchRow row_from_json(const nlohmann::json& j) {
+  BatchRow r;
+  r.name = j.at("name").get<std::string>();
+  r.status = j.at("status").get<std::string>();
+  r.verdict = j.at("verdict").get<std::string>();
+  r.effect = j.at("effect").get<std::string>();
+  r.held_out_before_mm = j.at("held_out_before_mm").get<double>();
+  r.held_out_after_mm = j.at("held_out_after_mm").get<double>();
+  r.noise_sigma_mm = j.at("noise_sigma_mm").get<double>();
+  r.seconds = j.at("seconds").get<double>();
+  r.error = j.at("error").get<std::string>();
+  return r;
+}
+
+BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options) {
+  const fs::path out(options.out);
+  fs::create_directories(out);
+  BatchResult result;
+  for (std::size_t i = 0; i < manifest.materials.size(); ++i) {
+    const BatchMaterial& material = manifest.materials[i];
+    const fs::path dir = out / material.name;
+    if (std::optional<BatchRow> row = finished_row(dir, material)) {
+      if (options.progress) options.progress(fmt::format("{} ({}/{}): already done", material.name, i + 1, manifest.materials.size()));
+      result.rows.push_back(*row);
+      ++result.already_done;
+      continue;
+    }
+    fs::create_directories(dir);
+    fs::remove(dir / "done.json");
+    fs::remove(dir / "failed.json");
+    if (options.progress) options.progress(fmt::format("{} ({}/{}): diagnosing", material.name, i + 1, manifest.materials.size()));
+    BatchRow row = diagnose_material(manifest, material, dir, options);
+    const nlohmann::json record = {{"fingerprint", material.fingerprint}, {"row", row_json(row)}};
+    write_file_atomically(dir / (row.status == "done" ? "done.json" : "failed.json"),
+                          [&](std::ostream& o) { o << record.dump(2) << "\n"; });
+    if (options.progress) {
+      options.progress(row.status == "done"
+                           ? fmt::format("{}: {}{} in {:.0f} s", material.name, row.verdict,
+                                         row.effect.empty() ? "" : " (" + row.effect + ")", row.seconds)
+                           : fmt::format("{}: FAILED: {}", material.name, row.error));
+    }
+    (row.status == "done" ? result.done : result.failed) += 1;
+    result.rows.push_back(std::move(row));
+  }
+  nlohmann::json rows = nlohmann::json::array();
+  for (const BatchRow& r : result.rows) rows.push_back(row_json(r));
+  write_file_atomically(out / "summary.json", [&](std::ostream& o) {
+    o << nlohmann::json{{"manifest", manifest.source}, {"materials", rows}}.dump(2) << "\n";
+  });
+  write_file_atomically(out / "summary.md", [&](std::ostream& o) { o << summary_table(result); });
+  return result;
+}
+
+std::string summary_table(const BatchResult& result) {
+  std::string s = "| material | status | verdict | effect | held-out before (mm) | after (mm) | noise sigma (mm) | "
+                  "seconds | error |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const BatchRow& r : result.rows) {
+    const bool ok = r.status != "failed";
+    s += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.0f} | {} |\n", r.name, r.status, ok ? r.verdict : "-",
+                     r.effect.empty() ? "-" : r.effect, ok ? fmt::format("{:.3f}", r.held_out_before_mm) : "-",
+                     ok && r.held_out_after_mm > 0.0 ? fmt::format("{:.3f}", r.held_out_after_mm) : "-",
+                     ok ? fmt::format("{:.3f}", r.noise_sigma_mm) : "-", r.seconds, r.error);
+  }
+  s += fmt::format("\n{} diagnosed now, {} already done, {} failed\n", result.done, result.already_done, result.failed);
+  return s;
+}
+
+}  // namespace twin::batch

@@ -1,0 +1,58 @@
+#pragma once
+// `twin batch`: diagnoses every material of a manifest (batch_manifest.h) one after another and
+// writes, under the output directory OUT:
+//   OUT/NAME/            the diagnosis report (verdict.json, report.md, material_augmented.json
+//                        when an effect is named; twin/diagnosis/diagnose.h)
+//   OUT/NAME/material.json   the material as characterised (with the named effect, else the
+//                        base fit), a material file the twin reads
+//   OUT/NAME/done.json   written last, atomically: the material is finished. It records the
+//                        manifest entry it was made from and the summary row.
+//   OUT/NAME/failed.json when the diagnosis threw: the error. The other materials go on.
+//   OUT/summary.json, OUT/summary.md   one row per material, in manifest order.
+// Resuming: a material whose done.json records the same manifest entry (trials, start material,
+// diagnose options) is not redone; its row is read back. Anything else (never run, interrupted,
+// failed, or changed in the manifest) is diagnosed afresh, its old done.json and failed.json
+// removed first, so that an interrupted run never leaves a material looking finished.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "twin/batch/batch_manifest.h"
+
+namespace twin::batch {
+
+struct BatchRow {
+  std::string name;
+  std::string status;   // "done" (this run), "already done" (an earlier run's), "failed"
+  std::string verdict;  // diagnosis verdict ("effect", "none", "unexplained", "model_form")
+  std::string effect;   // named effect, "" when none
+  double held_out_before_mm = 0.0;  // mean correspondence error of the base fit on the held-out trials
+  double held_out_after_mm = 0.0;   // with the named effect (or the closest candidate); 0 when none
+  double noise_sigma_mm = 0.0;
+  double seconds = 0.0;             // of the run that made it
+  std::string error;                // "failed": what went wrong
+};
+
+nlohmann::json row_json(const BatchRow& row);
+BatchRow row_from_json(const nlohmann::json& j);
+
+struct BatchOptions {
+  std::string out;                                    // OUT
+  std::function<void(const std::string&)> progress;   // one line per material, and the diagnosis's
+};
+
+struct BatchResult {
+  std::vector<BatchRow> rows;  // manifest order
+  int done = 0, already_done = 0, failed = 0;
+};
+
+// Throws std::runtime_error only when OUT cannot be written; a material's failure is a row.
+BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options);
+
+// The summary table (markdown), as OUT/summary.md holds it.
+std::string summary_table(const BatchResult& result);
+
+}  // namespace twin::batch

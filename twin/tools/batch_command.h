@@ -1,0 +1,22 @@
+#pragma once
+// `twin batch MANIFEST --out DIR`: diagnoses every material of a manifest, resumable
+// (twin/batch/batch_runner.h; docs/batch.md).
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace twin_cli {
+
+struct BatchArguments {
+  std::string manifest, out;
+  bool quiet = false;
+};
+
+CLI::App* add_batch_command(CLI::App& app, BatchArguments& arguments);
+
+// Exit status: 0 every material done, 2 some failed (each has its failed.json and summary row);
+// bad input throws (main prints it and exits 1).
+int run_batch_command(const BatchArguments& arguments);
+
+}  // namespace twin_cli
