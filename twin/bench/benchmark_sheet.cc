@@ -2,7 +2,12 @@
 
 #include <cmath>
 
+#include <stdexcept>
+#include <string>
+
 #include "twin/mesh/sheet_mesh.h"
+#include "twin/solvers/implicit_stepper.h"
+#include "twin/solvers/static_solver.h"
 
 namespace twin::bench {
 
@@ -49,6 +54,25 @@ std::vector<ClampPose> BenchmarkSheet::circling_poses(double t_s) const {
   std::vector<ClampPose> moving = poses;
   moving[0].position_m += 0.05 * Vec3(std::cos(M_PI * t_s) - 1.0, std::sin(M_PI * t_s), 0.0);
   return moving;
+}
+
+CirclingStates circling_states(const BenchmarkSheet& sheet, int steps, double dt_s) {
+  VecX x = sheet.flat;
+  StaticSolver statics(sheet.model);
+  if (!statics.solve(sheet.clamps, sheet.poses, x).usable()) throw std::runtime_error("static equilibrium failed");
+  CirclingStates states;
+  ImplicitStepper stepper(sheet.model);
+  VecX v = VecX::Zero(x.size());
+  for (int s = 0; s <= steps; ++s) {
+    states.x.push_back(x);
+    states.v.push_back(v);
+    if (s == steps) break;
+    if (!stepper.step(x, v, dt_s, sheet.clamps, sheet.circling_poses((s + 1) * dt_s), linearized_step_options())
+             .usable()) {
+      throw std::runtime_error("step " + std::to_string(s) + " failed");
+    }
+  }
+  return states;
 }
 
 }  // namespace twin::bench

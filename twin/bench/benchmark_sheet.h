@@ -26,4 +26,12 @@ struct BenchmarkSheet {
   VecX flat;                     // the flat sheet, 1 m above the floor
 };
 
+// The sheet's static equilibrium from flat, then `steps` linearised backward-Euler steps of dt_s
+// while clamp A circles: x[k], v[k] at the start of step k (k = 0..steps), as the studies of the
+// moving sheet's Hessian use them. Throws std::runtime_error when a solve fails.
+struct CirclingStates {
+  std::vector<VecX> x, v;
+};
+CirclingStates circling_states(const BenchmarkSheet& sheet, int steps, double dt_s);
+
 }  // namespace twin::bench

@@ -28,12 +28,10 @@
 #include "twin/bench/benchmark_sheet.h"
 #include "twin/model/energy_term.h"
 #include "twin/model/hessian_pattern.h"
-#include "twin/solvers/implicit_stepper.h"
 #include "twin/model/inertia_term.h"
 #include "twin/model/membrane_energy.h"
 #include "twin/model/objective.h"
 #include "twin/solvers/sparse_cholesky.h"
-#include "twin/solvers/static_solver.h"
 #include "twin/model/viscosity_term.h"
 
 namespace {
@@ -210,27 +208,18 @@ int main(int argc, char** argv) {
 
   const bench::BenchmarkSheet sheet(triangles);
   const ShellModel& model = sheet.model;
-  VecX x = sheet.flat;
-  StaticSolver statics(model);
-  if (!statics.solve(sheet.clamps, sheet.poses, x).usable()) {
-    fmt::print(stderr, "static equilibrium failed\n");
-    return 1;
-  }
   // States x_k at the start of each step k (and v_k), stepping with the cell's linearized scheme.
   const std::vector<int> lags = {1, 2, 3, 5, 10, 20, 40};
   const double dt_s = 0.01;
-  std::vector<VecX> xs, vs;
-  ImplicitStepper stepper(model);
-  VecX v = VecX::Zero(x.size());
-  for (int s = 0; s <= start_step + lags.back(); ++s) {
-    xs.push_back(x);
-    vs.push_back(v);
-    if (!stepper.step(x, v, dt_s, sheet.clamps, sheet.circling_poses((s + 1) * dt_s), linearized_step_options())
-             .usable()) {
-      fmt::print(stderr, "step {} failed\n", s);
-      return 1;
-    }
+  bench::CirclingStates states;
+  try {
+    states = bench::circling_states(sheet, start_step + lags.back(), dt_s);
+  } catch (const std::runtime_error& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
   }
+  const std::vector<VecX>& xs = states.x;
+  const std::vector<VecX>& vs = states.v;
   const DofMap dofs = model.hold_clamps(sheet.clamps, sheet.poses);
   const std::vector<const EnergyTerm*> potential = model.potential_terms();
   const EnergyTerm* membrane = potential[0];

@@ -4,6 +4,7 @@
 
 #include "twin/solvers/implicit_stepper.h"
 #include "twin/solvers/static_solver.h"
+#include "tests/support/vertex_distance.h"
 
 namespace twin {
 namespace {
@@ -28,11 +29,7 @@ struct SwingingSheet {
   }
 };
 
-double largest_vertex_distance(const VecX& a, const VecX& b) {
-  double largest = 0.0;
-  for (Eigen::Index i = 0; i < a.size(); i += 3) largest = std::max(largest, (a.segment<3>(i) - b.segment<3>(i)).norm());
-  return largest;
-}
+using testing_support::largest_vertex_distance;
 
 // The background-factorised step is CG with the factor of a predicted Hessian: from the same
 // state it must land where the exactly solved step lands, within 0.1 mm per vertex (its CG

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "twin/solvers/coarse_to_fine_statics.h"
+#include "tests/support/vertex_distance.h"
 
 namespace twin {
 namespace {
@@ -38,11 +39,7 @@ struct HeldSheet {
   VecX flat;
 };
 
-double largest_vertex_distance(const VecX& a, const VecX& b) {
-  double largest = 0.0;
-  for (Eigen::Index i = 0; i < a.size(); i += 3) largest = std::max(largest, (a.segment<3>(i) - b.segment<3>(i)).norm());
-  return largest;
-}
+using testing_support::largest_vertex_distance;
 
 TEST_CASE("interpolated positions follow an affine deformation exactly", "[twin][solver]") {
   const SheetMesh coarse = sheet_of(60), fine = sheet_of(500);
