@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -100,8 +101,8 @@ BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options
       continue;
     }
     fs::create_directories(dir);
-    fs::remove(dir / "done.json");
-    fs::remove(dir / "failed.json");
+    // An earlier run's files must not pass for this one's (a material.json beside a failure).
+    for (const char* stale : {"done.json", "failed.json", "material.json"}) fs::remove(dir / stale);
     if (options.progress) options.progress(fmt::format("{} ({}/{}): diagnosing", material.name, i + 1, manifest.materials.size()));
     BatchRow row = diagnose_material(manifest, material, dir, options);
     const nlohmann::json record = {{"fingerprint", material.fingerprint}, {"row", row_json(row)}};

@@ -11,8 +11,8 @@
 //   OUT/summary.json, OUT/summary.md   one row per material, in manifest order.
 // Resuming: a material whose done.json records the same manifest entry (trials, start material,
 // diagnose options) is not redone; its row is read back. Anything else (never run, interrupted,
-// failed, or changed in the manifest) is diagnosed afresh, its old done.json and failed.json
-// removed first, so that an interrupted run never leaves a material looking finished.
+// failed, or changed in the manifest) is diagnosed afresh, its old done.json, failed.json and
+// material.json removed first, so that an interrupted run never leaves a material looking finished.
 
 #include <functional>
 #include <string>

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -91,10 +90,7 @@ CoarseToFineStatics::~CoarseToFineStatics() = default;
 
 void CoarseToFineStatics::sync_level(Level& level) const {
   level.model->set_material(fine_.material());
-  if (level.model->load_age_s() != fine_.load_age_s() &&
-      !(std::isnan(level.model->load_age_s()) && std::isnan(fine_.load_age_s()))) {
-    level.model->set_load_age_s(fine_.load_age_s());
-  }
+  level.model->set_load_age_s(fine_.load_age_s());  // free when the stiffness factor is the same
 }
 
 CoarseToFineReport CoarseToFineStatics::solve(const std::vector<ClampPose>& poses, VecX& x,
