@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The twin's parts depend one way: base <- mesh <- model <- solvers <- trials <- diagnosis <- batch, and
+# The twin's parts depend one way: base <- mesh <- model <- solvers <- trials <- distributed <- diagnosis <- batch, and
 # tools/ and bench/ on top; the twin as a whole depends on no hardware, LCM or PCL. Prints every
 # include that breaks that and exits 1; exits 0 when there is none.
 #   scripts/check_twin_layers.sh [SOURCE_DIR]
 set -uo pipefail
 cd "${1:-$(dirname "$0")/..}"
-parts=(base mesh model solvers trials diagnosis batch)
+parts=(base mesh model solvers trials distributed diagnosis batch)
 status=0
 report() { echo "$1"; status=1; }
 for ((i = 0; i < ${#parts[@]}; ++i)); do

@@ -18,6 +18,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   default-jdk-headless liblcm-java libjchart2d-java  # lcm-spy with our types (optional jar)
   xvfb                                         # lcm-spy on a headless machine (scripts/lcm_spy.sh)
+  libopenmpi-dev openmpi-bin                   # twin batch across MPI ranks (optional: built only when found)
 )
 
 bash scripts/install_packages.sh "${PACKAGES[@]}"

@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "cell/grasp_planning/grasp_assignment.h"
 #include "cell/grasp_planning/grasp_refinement.h"
+#include "cell/grasp_planning/hang_evaluation_codec.h"
 
 namespace cell {
 namespace {
@@ -40,9 +44,23 @@ std::string describe(const CandidateResult& c) {
                      100.0 * c.candidate.slack);
 }
 
+// Simulates `count` hangs, spread over the ranks (each rank gets every result, bit for bit as
+// computed, so every rank goes on with the same ranking).
+std::vector<HangEvaluation> simulate_all(twin::distributed::RankGroup& ranks, std::size_t count,
+                                         const std::function<HangEvaluation(std::size_t)>& simulate) {
+  const std::vector<std::string> bytes = ranks.map_on_every_rank(
+      static_cast<int>(count), [&](int k) { return encode_hang_evaluation(simulate(static_cast<std::size_t>(k))); });
+  std::vector<HangEvaluation> out;
+  out.reserve(count);
+  for (const std::string& b : bytes) out.push_back(decode_hang_evaluation(b));
+  return out;
+}
+
 }  // namespace
 
 PlannerResult plan_grasps(const GraspGoal& goal, const PlannerOptions& options) {
+  twin::distributed::SingleProcess single;
+  twin::distributed::RankGroup& ranks = options.ranks ? *options.ranks : single;
   PlannerResult r;
   const int n = options.grippers > 0 ? options.grippers : static_cast<int>(goal.grippers.size());
   if (n < 2 || n > static_cast<int>(goal.grippers.size())) {
@@ -62,6 +80,7 @@ PlannerResult plan_grasps(const GraspGoal& goal, const PlannerOptions& options) 
   }
   r.candidates = static_cast<int>(candidates.size());
   const auto screen_start = std::chrono::steady_clock::now();
+  std::vector<int> reachable;  // indices into r.ranked of the candidates to simulate
   for (const GraspCandidate& candidate : candidates) {
     CandidateResult c;
     c.candidate = candidate;
@@ -69,39 +88,49 @@ PlannerResult plan_grasps(const GraspGoal& goal, const PlannerOptions& options) 
                                goal.grip_radius_m, options.cell);
     if (options.cell) c.unreachable = check_reachability(c.grasps, *options.cell);
     if (c.unreachable.empty()) {
-      c.screening = evaluate_hang(coarse, c.grasps, goal);
-      ++r.screened;
-      if (options.progress) {
-        options.progress(fmt::format("screen {}/{} {}: {} ({:.2f} s)", r.screened, r.candidates, describe(c),
-                                     c.screening.solved ? fmt::format("sag {:.3f} m", c.screening.metrics.sag_m)
-                                                        : c.screening.reason,
-                                     c.screening.seconds));
-      }
+      reachable.push_back(static_cast<int>(r.ranked.size()));
     } else {
       ++r.unreachable;
     }
     r.ranked.push_back(std::move(c));
   }
+  r.screened = static_cast<int>(reachable.size());
+  const std::vector<HangEvaluation> screened = simulate_all(ranks, reachable.size(), [&](std::size_t k) {
+    const CandidateResult& c = r.ranked[reachable[k]];
+    HangEvaluation e = evaluate_hang(coarse, c.grasps, goal);
+    if (options.progress) {
+      options.progress(fmt::format("screen {}/{} {}: {} ({:.2f} s)", k + 1, r.candidates, describe(c),
+                                   e.solved ? fmt::format("sag {:.3f} m", e.metrics.sag_m) : e.reason, e.seconds));
+    }
+    return e;
+  });
+  for (std::size_t k = 0; k < reachable.size(); ++k) r.ranked[reachable[k]].screening = screened[k];
   r.screening_seconds = seconds_since(screen_start);
   std::stable_sort(r.ranked.begin(), r.ranked.end(), better);
   const auto final_start = std::chrono::steady_clock::now();
-  for (CandidateResult& c : r.ranked) {
+  for (const CandidateResult& c : r.ranked) {
     if ((goal.search.finalists > 0 && r.finalists >= goal.search.finalists) || !c.unreachable.empty() ||
         !c.screening.solved) {
       break;
     }
-    c.target = evaluate_hang(fine, c.grasps, goal);
-    c.screening_rank = r.finalists;
     ++r.finalists;
+  }
+  const std::vector<HangEvaluation> finals = simulate_all(ranks, static_cast<std::size_t>(r.finalists), [&](std::size_t k) {
+    const CandidateResult& c = r.ranked[k];
+    HangEvaluation e = evaluate_hang(fine, c.grasps, goal);
+    if (options.progress) {
+      options.progress(fmt::format("final {} {}: {} ({:.2f} s)", k + 1, describe(c),
+                                   e.solved ? fmt::format("sag {:.3f} m", e.metrics.sag_m) : e.reason, e.seconds));
+    }
+    return e;
+  });
+  for (int k = 0; k < r.finalists; ++k) {
+    CandidateResult& c = r.ranked[k];
+    c.target = finals[k];
+    c.screening_rank = k;
     if (c.target->solved) {
       r.largest_screening_sag_error_m =
           std::max(r.largest_screening_sag_error_m, std::abs(c.screening.metrics.sag_m - c.target->metrics.sag_m));
-    }
-    if (options.progress) {
-      options.progress(fmt::format("final {} {}: {} ({:.2f} s)", r.finalists, describe(c),
-                                   c.target->solved ? fmt::format("sag {:.3f} m", c.target->metrics.sag_m)
-                                                    : c.target->reason,
-                                   c.target->seconds));
     }
   }
   r.final_seconds = seconds_since(final_start);

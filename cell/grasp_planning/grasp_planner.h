@@ -27,6 +27,7 @@
 #include "cell/grasp_planning/grasp_candidates.h"
 #include "cell/grasp_planning/hang_evaluation.h"
 #include "drivers/cell_hardware_config.h"
+#include "twin/distributed/rank_group.h"
 
 namespace cell {
 
@@ -43,6 +44,10 @@ struct PlannerOptions {
   const drivers::CellHardwareConfig* cell = nullptr;  // reachability and assignment by arm
   int grippers = 0;                                   // use the goal's first N grippers (0: all)
   std::function<void(const std::string&)> progress;   // optional, one line per simulation
+  // The screening and final simulations (steps 2 and 4) spread over MPI ranks: every rank calls
+  // plan_grasps with the same goal and gets the same result. Null: this process alone. Steps 1,
+  // 3 and 5 (candidates, ranking, the sequential refinement) run on every rank.
+  twin::distributed::RankGroup* ranks = nullptr;
 };
 
 struct PlannerResult {

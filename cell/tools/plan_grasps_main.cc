@@ -3,6 +3,8 @@
 //   plan_grasps --goal GOAL.json --out PLAN.json [--cell CELL.json] [--grippers N] [--seed S]
 //               [--rows N] [--shape SHAPE.ply] [--threads N] [--verbose]
 //   plan_grasps --goal GOAL.json --score PLAN.json [--cell CELL.json]
+// Under `mpirun -np N` the candidates' simulations are spread over the N ranks
+// (grasp_planner.h: PlannerOptions::ranks); rank 0 prints and writes, the plan is the same.
 // --score simulates an existing plan (e.g. a hand-made one) on the goal's target mesh and prints
 // its sag and fold metrics by the planner's measure, without planning.
 // Prints the best candidates (material points, sag, fold metrics, feasible), how many were
@@ -13,6 +15,7 @@
 #include <fmt/core.h>
 
 #include <exception>
+#include <memory>
 #include <optional>
 
 #include <omp.h>
@@ -20,6 +23,7 @@
 #include "cell/grasp_planning/grasp_assignment.h"
 #include "cell/grasp_planning/grasp_planner.h"
 #include "cell/grasp_planning/plan_table.h"
+#include "twin/distributed/rank_group.h"
 #include "twin/mesh/mesh_io.h"
 
 namespace {
@@ -72,16 +76,22 @@ int main(int argc, char** argv) {
 
   omp_set_num_threads(threads);
   try {
+    // Before anything can fail, so that every rank meets the same error; MPI finishes last.
+    const std::unique_ptr<twin::distributed::RankGroup> ranks = twin::distributed::join_ranks();
+    const bool reporter = ranks->rank() == 0;
     cell::GraspGoal goal = cell::read_grasp_goal(goal_path);
     if (seed) goal.search.seed = *seed;
     std::optional<drivers::CellHardwareConfig> cell;
     if (!cell_path.empty()) cell = drivers::read_cell_hardware(cell_path);
-    if (!score_path.empty()) return score_plan(goal, score_path, cell ? &*cell : nullptr);
+    if (!score_path.empty()) return reporter ? score_plan(goal, score_path, cell ? &*cell : nullptr) : 0;
     cell::PlannerOptions options;
     options.cell = cell ? &*cell : nullptr;
     options.grippers = grippers;
-    if (verbose) options.progress = [](const std::string& line) { fmt::print("{}\n", line); };
+    options.ranks = ranks.get();
+    const std::string prefix = ranks->size() > 1 ? fmt::format("[rank {}/{}] ", ranks->rank(), ranks->size()) : "";
+    if (verbose) options.progress = [prefix](const std::string& line) { fmt::print("{}{}\n", prefix, line); };
     const cell::PlannerResult r = cell::plan_grasps(goal, options);
+    if (!reporter) return 0;  // rank 0 reports for all
     fmt::print("{}", cell::candidate_table(r, rows));
     fmt::print("{} candidates, {} unreachable, {} simulated on {} triangles in {:.1f} s, {} on {} triangles in {:.1f} s, "
                "refinement {} on {} triangles in {:.1f} s ({})\n",

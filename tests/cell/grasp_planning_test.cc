@@ -11,6 +11,7 @@
 
 #include "cell/grasp_planning/grasp_assignment.h"
 #include "cell/grasp_planning/grasp_planner.h"
+#include "cell/grasp_planning/hang_evaluation_codec.h"
 #include "tests/support/temp_dir.h"
 
 namespace {
@@ -279,6 +280,27 @@ TEST_CASE("local refinement on the target mesh never makes the plan worse and is
     CHECK(g.clamp.material_point_m.y() >= 0.0);
     CHECK(g.clamp.material_point_m.y() <= 0.975);
   }
+}
+
+TEST_CASE("a hang evaluation sent to another rank arrives bit for bit", "[grasp_planning]") {
+  const cell::GraspGoal goal = goal_from(small_search_goal());
+  const twin::ShellModel model(goal.sheet.mesh, goal.material);
+  const cell::HangEvaluation e = cell::evaluate_plan(model, twin::read_grasp_plan(kExamples + "/four_grasp_plan.json"), goal);
+  REQUIRE(e.solved);
+  const std::string bytes = cell::encode_hang_evaluation(e);
+  const cell::HangEvaluation back = cell::decode_hang_evaluation(bytes);
+  CHECK(back.solved == e.solved);
+  CHECK(back.feasible == e.feasible);
+  CHECK(back.reason == e.reason);
+  CHECK(back.metrics.sag_m == e.metrics.sag_m);
+  CHECK(back.metrics.lowest_z_m == e.metrics.lowest_z_m);
+  CHECK(back.metrics.clearance_m == e.metrics.clearance_m);
+  CHECK(back.metrics.min_bend_radius_m == e.metrics.min_bend_radius_m);
+  CHECK(back.metrics.overturned_fraction == e.metrics.overturned_fraction);
+  CHECK(back.seconds == e.seconds);
+  CHECK(back.x == e.x);
+  CHECK_THROWS(cell::decode_hang_evaluation(bytes.substr(0, bytes.size() - 1)));
+  CHECK_THROWS(cell::decode_hang_evaluation(bytes + "x"));
 }
 
 TEST_CASE("plan_grasps writes a plan, scores a hand-made one and exits 0, 2 or 1", "[grasp_planning]") {

@@ -1,10 +1,14 @@
 #include "twin/batch/batch_runner.h"
 
+#include <unistd.h>
+
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include "twin/base/atomic_file.h"
@@ -28,6 +32,31 @@ std::optional<BatchRow> finished_row(const fs::path& dir, const BatchMaterial& m
     return row;
   } catch (const std::exception&) {
     return std::nullopt;  // unreadable: redo it
+  }
+}
+
+// OUT/NAME/running.json: who is diagnosing the material, while it runs.
+void write_running_marker(const fs::path& dir, int rank) {
+  char host[256] = "";
+  if (gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+  const nlohmann::json marker = {{"rank", rank},
+                                 {"pid", static_cast<long>(getpid())},
+                                 {"host", host},
+                                 {"started", fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::time(nullptr)))}};
+  write_file_atomically(dir / "running.json", [&](std::ostream& o) { o << marker.dump(2) << "\n"; });
+}
+
+// What a running.json left by an earlier run says, or "" when there is none.
+std::string interrupted_run(const fs::path& dir) {
+  std::ifstream in(dir / "running.json");
+  if (!in) return "";
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    return fmt::format("an earlier run stopped while diagnosing it (rank {}, pid {} on {}, started {}); diagnosed again",
+                       j.at("rank").get<int>(), j.at("pid").get<long>(), j.at("host").get<std::string>(),
+                       j.at("started").get<std::string>());
+  } catch (const std::exception&) {
+    return "an earlier run stopped while diagnosing it (its running.json is unreadable); diagnosed again";
   }
 }
 
@@ -70,7 +99,8 @@ nlohmann::json row_json(const BatchRow& r) {
           {"held_out_after_mm", r.held_out_after_mm},
           {"noise_sigma_mm", r.noise_sigma_mm},
           {"seconds", r.seconds},
-          {"error", r.error}};
+          {"error", r.error},
+          {"note", r.note}};
 }
 
 BatchRow row_from_json(const nlohmann::json& j) {
@@ -84,43 +114,78 @@ BatchRow row_from_json(const nlohmann::json& j) {
   r.noise_sigma_mm = j.at("noise_sigma_mm").get<double>();
   r.seconds = j.at("seconds").get<double>();
   r.error = j.at("error").get<std::string>();
+  r.note = j.value("note", "");  // absent in the done.json of runs before it existed
   return r;
 }
 
+namespace {
+
+// One material: read back when finished before, else diagnosed into OUT/NAME.
+BatchRow run_material(const BatchManifest& manifest, std::size_t i, const BatchOptions& options, int rank) {
+  const BatchMaterial& material = manifest.materials[i];
+  const fs::path dir = fs::path(options.out) / material.name;
+  const std::size_t count = manifest.materials.size();
+  if (std::optional<BatchRow> row = finished_row(dir, material)) {
+    if (options.progress) options.progress(fmt::format("{} ({}/{}): already done", material.name, i + 1, count));
+    return *row;
+  }
+  fs::create_directories(dir);
+  const std::string interrupted = interrupted_run(dir);
+  // An earlier run's files must not pass for this one's (a material.json beside a failure).
+  for (const char* stale : {"done.json", "failed.json", "material.json"}) fs::remove(dir / stale);
+  write_running_marker(dir, rank);
+  if (options.progress) {
+    options.progress(fmt::format("{} ({}/{}): diagnosing{}", material.name, i + 1, count,
+                                 interrupted.empty() ? "" : " (" + interrupted.substr(0, interrupted.find(';')) + ")"));
+  }
+  BatchRow row = diagnose_material(manifest, material, dir, options);
+  row.note = interrupted;
+  const nlohmann::json record = {{"fingerprint", material.fingerprint}, {"row", row_json(row)}};
+  write_file_atomically(dir / (row.status == "done" ? "done.json" : "failed.json"),
+                        [&](std::ostream& o) { o << record.dump(2) << "\n"; });
+  fs::remove(dir / "running.json");
+  if (options.progress) {
+    options.progress(row.status == "done"
+                         ? fmt::format("{}: {}{} in {:.0f} s", material.name, row.verdict,
+                                       row.effect.empty() ? "" : " (" + row.effect + ")", row.seconds)
+                         : fmt::format("{}: FAILED: {}", material.name, row.error));
+  }
+  return row;
+}
+
+}  // namespace
+
 BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options) {
+  distributed::SingleProcess single;
+  distributed::RankGroup& ranks = options.ranks ? *options.ranks : single;
   const fs::path out(options.out);
-  fs::create_directories(out);
+  if (ranks.rank() == 0) fs::create_directories(out);  // before any material is handed out
+  const int rank = ranks.rank();
+  // A material's own failure is its row; an exception here (OUT unwritable) becomes a failed row
+  // too, so that a rank never throws out of the farm and leaves rank 0 waiting.
+  const std::vector<std::string> results =
+      ranks.farm_to_rank0(static_cast<int>(manifest.materials.size()), [&](int i) {
+        try {
+          return row_json(run_material(manifest, static_cast<std::size_t>(i), options, rank)).dump();
+        } catch (const std::exception& e) {
+          BatchRow row;
+          row.name = manifest.materials[static_cast<std::size_t>(i)].name;
+          row.status = "failed";
+          row.error = fmt::format("rank {}: {}", rank, e.what());
+          return row_json(row).dump();
+        }
+      });
   BatchResult result;
-  for (std::size_t i = 0; i < manifest.materials.size(); ++i) {
-    const BatchMaterial& material = manifest.materials[i];
-    const fs::path dir = out / material.name;
-    if (std::optional<BatchRow> row = finished_row(dir, material)) {
-      if (options.progress) options.progress(fmt::format("{} ({}/{}): already done", material.name, i + 1, manifest.materials.size()));
-      result.rows.push_back(*row);
-      ++result.already_done;
-      continue;
-    }
-    fs::create_directories(dir);
-    // An earlier run's files must not pass for this one's (a material.json beside a failure).
-    for (const char* stale : {"done.json", "failed.json", "material.json"}) fs::remove(dir / stale);
-    if (options.progress) options.progress(fmt::format("{} ({}/{}): diagnosing", material.name, i + 1, manifest.materials.size()));
-    BatchRow row = diagnose_material(manifest, material, dir, options);
-    const nlohmann::json record = {{"fingerprint", material.fingerprint}, {"row", row_json(row)}};
-    write_file_atomically(dir / (row.status == "done" ? "done.json" : "failed.json"),
-                          [&](std::ostream& o) { o << record.dump(2) << "\n"; });
-    if (options.progress) {
-      options.progress(row.status == "done"
-                           ? fmt::format("{}: {}{} in {:.0f} s", material.name, row.verdict,
-                                         row.effect.empty() ? "" : " (" + row.effect + ")", row.seconds)
-                           : fmt::format("{}: FAILED: {}", material.name, row.error));
-    }
-    (row.status == "done" ? result.done : result.failed) += 1;
+  if (rank != 0) return result;
+  for (const std::string& text : results) {
+    BatchRow row = row_from_json(nlohmann::json::parse(text));
+    ++(row.status == "done" ? result.done : row.status == "failed" ? result.failed : result.already_done);
     result.rows.push_back(std::move(row));
   }
   nlohmann::json rows = nlohmann::json::array();
   for (const BatchRow& r : result.rows) rows.push_back(row_json(r));
   write_file_atomically(out / "summary.json", [&](std::ostream& o) {
-    o << nlohmann::json{{"manifest", manifest.source}, {"materials", rows}}.dump(2) << "\n";
+    o << nlohmann::json{{"manifest", manifest.source}, {"ranks", ranks.size()}, {"materials", rows}}.dump(2) << "\n";
   });
   write_file_atomically(out / "summary.md", [&](std::ostream& o) { o << summary_table(result); });
   return result;
@@ -128,13 +193,13 @@ BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options
 
 std::string summary_table(const BatchResult& result) {
   std::string s = "| material | status | verdict | effect | held-out before (mm) | after (mm) | noise sigma (mm) | "
-                  "seconds | error |\n|---|---|---|---|---|---|---|---|---|\n";
+                  "seconds | error | note |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const BatchRow& r : result.rows) {
     const bool ok = r.status != "failed";
-    s += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.0f} | {} |\n", r.name, r.status, ok ? r.verdict : "-",
+    s += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.0f} | {} | {} |\n", r.name, r.status, ok ? r.verdict : "-",
                      r.effect.empty() ? "-" : r.effect, ok ? fmt::format("{:.3f}", r.held_out_before_mm) : "-",
                      ok && r.held_out_after_mm > 0.0 ? fmt::format("{:.3f}", r.held_out_after_mm) : "-",
-                     ok ? fmt::format("{:.3f}", r.noise_sigma_mm) : "-", r.seconds, r.error);
+                     ok ? fmt::format("{:.3f}", r.noise_sigma_mm) : "-", r.seconds, r.error, r.note);
   }
   s += fmt::format("\n{} diagnosed now, {} already done, {} failed\n", result.done, result.already_done, result.failed);
   return s;

@@ -8,11 +8,19 @@
 //   OUT/NAME/done.json   written last, atomically: the material is finished. It records the
 //                        manifest entry it was made from and the summary row.
 //   OUT/NAME/failed.json when the diagnosis threw: the error. The other materials go on.
+//   OUT/NAME/running.json while it is being diagnosed: which rank, process and host, since when.
+//                        Removed once done.json or failed.json is written; one found by a later
+//                        run means that run's predecessor stopped there (killed, say), and the
+//                        material's row says so when it is diagnosed again.
 //   OUT/summary.json, OUT/summary.md   one row per material, in manifest order.
 // Resuming: a material whose done.json records the same manifest entry (trials, start material,
 // diagnose options) is not redone; its row is read back. Anything else (never run, interrupted,
 // failed, or changed in the manifest) is diagnosed afresh, its old done.json, failed.json and
 // material.json removed first, so that an interrupted run never leaves a material looking finished.
+// Over MPI ranks (options.ranks, twin/distributed/rank_group.h) whole materials are handed out
+// to whichever rank is free; each rank writes its materials' files (OUT must be one directory
+// all ranks see) and rank 0 the summary. The files are those of a serial run: each material is
+// diagnosed by the same code on the same inputs, wherever it runs.
 
 #include <functional>
 #include <string>
@@ -21,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "twin/batch/batch_manifest.h"
+#include "twin/distributed/rank_group.h"
 
 namespace twin::batch {
 
@@ -34,6 +43,7 @@ struct BatchRow {
   double noise_sigma_mm = 0.0;
   double seconds = 0.0;             // of the run that made it
   std::string error;                // "failed": what went wrong
+  std::string note;                 // e.g. that an earlier run stopped while diagnosing it
 };
 
 nlohmann::json row_json(const BatchRow& row);
@@ -42,6 +52,7 @@ BatchRow row_from_json(const nlohmann::json& j);
 struct BatchOptions {
   std::string out;                                    // OUT
   std::function<void(const std::string&)> progress;   // one line per material, and the diagnosis's
+  distributed::RankGroup* ranks = nullptr;            // null: this process alone
 };
 
 struct BatchResult {
@@ -50,6 +61,7 @@ struct BatchResult {
 };
 
 // Throws std::runtime_error only when OUT cannot be written; a material's failure is a row.
+// Every rank calls it; the result (rows, counts) is on rank 0, empty on the others.
 BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options);
 
 // The summary table (markdown), as OUT/summary.md holds it.

@@ -1,10 +1,12 @@
 #include "batch_command.h"
 
 #include <cstdio>
+#include <memory>
 
 #include <fmt/format.h>
 
 #include "twin/batch/batch_runner.h"
+#include "twin/distributed/rank_group.h"
 
 namespace twin_cli {
 
@@ -20,17 +22,26 @@ CLI::App* add_batch_command(CLI::App& app, BatchArguments& a) {
 }
 
 int run_batch_command(const BatchArguments& a) {
+  // First, so that every rank meets the same errors after MPI started (and MPI finishes last).
+  const std::unique_ptr<twin::distributed::RankGroup> ranks = twin::distributed::join_ranks();
   const twin::batch::BatchManifest manifest = twin::batch::read_batch_manifest(a.manifest);
   twin::batch::BatchOptions options;
   options.out = a.out;
+  options.ranks = ranks.get();
+  const std::string prefix = ranks->size() > 1 ? fmt::format("[rank {}/{}] ", ranks->rank(), ranks->size()) : "";
   if (!a.quiet) {
-    options.progress = [](const std::string& line) {
-      fmt::print("{}\n", line);
+    options.progress = [prefix](const std::string& line) {
+      fmt::print("{}{}\n", prefix, line);
       std::fflush(stdout);
     };
   }
+  if (ranks->rank() == 0 && ranks->size() > 1 && !a.quiet) {
+    fmt::print("twin batch: {} materials over {} ranks\n", manifest.materials.size(), ranks->size());
+  }
   const twin::batch::BatchResult result = twin::batch::run_batch(manifest, options);
+  if (ranks->rank() != 0) return 0;  // rank 0 reports for all
   fmt::print("\n{}wrote {}/summary.md, {}/summary.json\n", twin::batch::summary_table(result), a.out, a.out);
+  std::fflush(stdout);
   return result.failed > 0 ? 2 : 0;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// `twin batch MANIFEST --out DIR`: diagnoses every material of a manifest, resumable
-// (twin/batch/batch_runner.h; docs/batch.md).
+// `[mpirun -np N] twin batch MANIFEST --out DIR`: diagnoses every material of a manifest, resumable,
+// whole materials spread over the MPI ranks when started by mpirun (twin/batch/batch_runner.h;
+// docs/batch.md).
 
 #include <string>
 

@@ -94,9 +94,11 @@ TEST_CASE("a batch diagnoses every material, records a failure, and a rerun redo
   CHECK_THAT(text, Catch::Contains("| lot_a | done |") && Catch::Contains("| lot_broken | failed |"));
 
   // Again: the finished materials are read back, not redone; the failed one is tried again.
-  // lot_b looks interrupted (its done.json gone, as if killed before writing it); lot_a's
-  // verdict file is kept as it was.
+  // lot_b looks interrupted (its done.json gone and its running.json left, as if killed before
+  // writing it); lot_a's verdict file is kept as it was.
   fs::remove(out / "lot_b" / "done.json");
+  std::ofstream(out / "lot_b" / "running.json")
+      << R"({"rank": 2, "pid": 4242, "host": "cellpc", "started": "2026-12-01T08:00:00Z"})";
   const auto lot_a_written = fs::last_write_time(out / "lot_a" / "verdict.json");
   const twin::batch::BatchResult second =
       twin::batch::run_batch(twin::batch::batch_manifest_from_json(j, "manifest.json", dir.str()), options);
@@ -108,6 +110,9 @@ TEST_CASE("a batch diagnoses every material, records a failure, and a rerun redo
   CHECK(second.rows[0].verdict == first.rows[0].verdict);
   CHECK(second.rows[0].held_out_before_mm == first.rows[0].held_out_before_mm);
   CHECK(second.rows[2].status == "done");
+  CHECK_THAT(second.rows[2].note, Catch::Contains("earlier run stopped") && Catch::Contains("rank 2, pid 4242 on cellpc"));
+  CHECK(second.rows[0].note.empty());
+  CHECK_FALSE(fs::exists(out / "lot_b" / "running.json"));
   CHECK(second.rows[2].verdict == first.rows[2].verdict);  // the same diagnosis, run again
   CHECK(second.rows[2].held_out_before_mm == Approx(first.rows[2].held_out_before_mm).epsilon(1e-9));
   CHECK(fs::last_write_time(out / "lot_a" / "verdict.json") == lot_a_written);
