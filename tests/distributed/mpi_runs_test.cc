@@ -222,3 +222,12 @@ TEST_CASE("plan_grasps over 3 ranks writes the serial run's plan", "[mpi]") {
   // Every rank simulated some of the candidates.
   for (int r = 0; r < 3; ++r) CHECK_THAT(mpi_output, Catch::Contains("[rank " + std::to_string(r) + "/3] screen"));
 }
+
+TEST_CASE("a twin command that does not spread over ranks refuses to run under mpirun -np 2", "[mpi]") {
+  std::string output;
+  const int status = testing_support::run_command(
+      mpirun(2) + " " + TWIN_EXE + " material " + PREPREG_SOURCE_DIR + "/cell/examples/composite_identified.json", output);
+  INFO(output);
+  CHECK(status != 0);
+  CHECK_THAT(output, Catch::Contains("only 'batch' runs over MPI ranks"));
+}

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@
 #include "diagnose_command.h"
 #include "identify_command.h"
 #include "twin/base/atomic_file.h"
+#include "twin/distributed/rank_group.h"
 #include "twin/mesh/mesh_io.h"
 #include "twin/trials/scenario.h"
 
@@ -162,6 +164,14 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
+    // Only the batch spreads its work over ranks; any other command under mpirun -np N would run
+    // N times into the same files.
+    int ranks = 1;
+    if (!*batch_cmd && twin::distributed::launched_by_mpirun(&ranks) && ranks > 1) {
+      throw std::runtime_error(fmt::format("started by mpirun with {} ranks: of the twin's commands only 'batch' "
+                                           "runs over MPI ranks; run this one without mpirun",
+                                           ranks));
+    }
     if (*solve_cmd) return solve(scenario, out_dir, verbose);
     if (*material_cmd) return describe_material(material);
     if (*identify_cmd) return twin_cli::run_identify(identify);
