@@ -63,6 +63,17 @@ int byte_count(const std::string& bytes) {
   return static_cast<int>(bytes.size());
 }
 
+// Every task's result, in index order; a task without one is a bug of the hand-out, not a result.
+std::vector<std::string> all_results(std::vector<std::optional<std::string>> slots, const char* way) {
+  std::vector<std::string> results;
+  results.reserve(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    if (!slots[i]) throw std::runtime_error(std::string(way) + ": task " + std::to_string(i) + " has no result");
+    results.push_back(std::move(*slots[i]));
+  }
+  return results;
+}
+
 class MpiWorld final : public RankGroup {
  public:
   MpiWorld() {
@@ -108,13 +119,7 @@ class MpiWorld final : public RankGroup {
       if (index < 0 || index >= count) throw std::runtime_error("map_on_every_rank: a rank sent a result for task " + std::to_string(index));
       slots[index] = reader.get_string();
     }
-    std::vector<std::string> results;
-    results.reserve(slots.size());
-    for (int i = 0; i < count; ++i) {
-      if (!slots[i]) throw std::runtime_error("map_on_every_rank: no rank sent task " + std::to_string(i) + "'s result");
-      results.push_back(std::move(*slots[i]));
-    }
-    return results;
+    return all_results(std::move(slots), "map_on_every_rank");
   }
 
   std::vector<std::string> farm_to_rank0(int count, const Task& task) override {
@@ -182,13 +187,7 @@ class MpiWorld final : public RankGroup {
     }
     local.join();
     if (local_failure) abort_run(0, local_failure->first, local_failure->second);
-    std::vector<std::string> results;
-    results.reserve(slots.size());
-    for (int i = 0; i < count; ++i) {
-      if (!slots[i]) throw std::runtime_error("farm_to_rank0: task " + std::to_string(i) + " has no result");
-      results.push_back(std::move(*slots[i]));
-    }
-    return results;
+    return all_results(std::move(slots), "farm_to_rank0");
   }
 
   std::vector<std::string> work_for_rank0(const Task& task) {
