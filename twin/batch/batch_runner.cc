@@ -159,7 +159,9 @@ BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options
   distributed::SingleProcess single;
   distributed::RankGroup& ranks = options.ranks ? *options.ranks : single;
   const fs::path out(options.out);
-  if (ranks.rank() == 0) fs::create_directories(out);  // before any material is handed out
+  // On every rank: an unwritable OUT then stops them all here alike, before the farm, rather than
+  // rank 0 alone while the others wait for work.
+  fs::create_directories(out);
   const int rank = ranks.rank();
   // A material's own failure is its row; an exception here (OUT unwritable) becomes a failed row
   // too, so that a rank never throws out of the farm and leaves rank 0 waiting.
