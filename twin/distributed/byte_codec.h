@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -37,9 +38,12 @@ class ByteWriter {
   std::string bytes_;
 };
 
+// Reads bytes it does not own: the message must outlive the reader, so a temporary string is
+// refused at compile time (a reader over one would read freed memory).
 class ByteReader {
  public:
-  explicit ByteReader(const std::string& bytes) : bytes_(bytes) {}
+  explicit ByteReader(std::string_view bytes) : bytes_(bytes) {}
+  explicit ByteReader(std::string&&) = delete;
   template <typename T>
   T get() {
     static_assert(std::is_arithmetic_v<T>, "numbers only");
@@ -67,7 +71,7 @@ class ByteReader {
     at_ += n;
     return p;
   }
-  const std::string& bytes_;
+  std::string_view bytes_;
   std::size_t at_ = 0;
 };
 
