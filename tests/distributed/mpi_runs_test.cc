@@ -1,9 +1,10 @@
 // Issue 38 items 2-5: the real programs under `mpirun -np 3` on this machine (Debian's OpenMPI),
-// against the same programs run serially: the rank group's two ways of spreading tasks, `twin
-// batch` (the same material files and verdicts as a serial batch), a rank killed partway (the run
-// fails, no material looks finished that is not, and the same command again redoes what was
-// interrupted and says so), and plan_grasps (the same plan). Three ranks on two cores: these
-// check results, not speed.
+// against the same programs run serially: the rank group's ways of spreading tasks and its
+// teams, `twin batch` (the same material files and verdicts as a serial batch), a rank killed
+// partway (the run fails, no material looks finished that is not, and the same command again
+// redoes what was interrupted and says so), one diagnosis's refit searches over the ranks
+// (`twin diagnose`, and `twin batch` in teams), and plan_grasps (the same plan). Three ranks on
+// two cores: these check results, not speed.
 #include <catch2/catch.hpp>
 
 #include <signal.h>
@@ -192,6 +193,66 @@ TEST_CASE("twin batch over 3 ranks writes what the serial batch writes, and resu
   }
 }
 
+TEST_CASE("one diagnosis's refit searches over 3 ranks, and a batch in teams, give the serial verdicts", "[mpi]") {
+  // Sheets whose warp bends at 0.4 of the weft: the isotropic base fit misses it, so the
+  // orthotropic refit runs, from five starts (refit.h).
+  testing_support::TempDir dir("mpi_refits");
+  twin::Material truth = sim_hw::lab_specimen("composite").truth;
+  truth.bending_rigidity_v_Nm = 0.4 * truth.bending_rigidity_u_Nm;
+  const std::vector<std::string> lots = {"lot_a", "lot_b"};
+  auto trial = [&](const std::string& name, std::uint64_t seed) {
+    sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(seed, kTriangles);
+    config.material_override = truth;
+    const fs::path path = dir / "trials" / name;
+    sim_hw::write_lab_trial(sim_hw::make_lab_trial(config), config, path.string(), path.string() + "_truth");
+  };
+  trial("test", 6);
+  nlohmann::json materials = nlohmann::json::array();
+  for (std::size_t i = 0; i < lots.size(); ++i) {
+    trial(lots[i], 21 + i);
+    materials.push_back({{"name", lots[i]}, {"train", {"trials/" + lots[i]}}, {"test", {"trials/test"}}});
+  }
+  const nlohmann::json manifest = {
+      {"materials", materials},
+      {"diagnose", {{"triangles", kTriangles}, {"path_triangles", 0}, {"refits", 1},
+                    {"effects", "orthotropic_stiffness"}, {"noise_mm", 0.3}, {"discretisation_check", false}}}};
+  const fs::path manifest_file = dir / "manifest.json";
+  std::ofstream(manifest_file) << manifest.dump(2);
+  const fs::path serial = dir / "serial", teams = dir / "teams";
+  std::string output;
+  REQUIRE(testing_support::run_command(batch_args(manifest_file, serial), output) == 0);  // serial: no mpirun
+  for (const std::string& lot : lots) {
+    INFO(output);
+    REQUIRE(read_json(serial / lot / "verdict.json")["effect"] == "orthotropic_stiffness");
+  }
+
+  // `twin diagnose` with the manifest's options, over 3 ranks: the serial batch's lot_a files.
+  output.clear();
+  const std::string diagnose = mpirun(3) + " " + TWIN_EXE + " --threads 1 diagnose --train " +
+                               (dir / "trials" / "lot_a").string() + " --test " + (dir / "trials" / "test").string() +
+                               " --report " + (dir / "diagnose").string() + " --triangles " +
+                               std::to_string(kTriangles) + " --path-triangles 0 --refits 1 --effects "
+                               "orthotropic_stiffness --noise-mm 0.3 --no-discretisation-check";
+  int status = testing_support::run_command(diagnose, output);
+  {
+    INFO(output);
+    REQUIRE(status == 0);
+    CHECK_THAT(output, Catch::Contains("5 refit searches over 3 ranks"));
+    for (int r = 0; r < 3; ++r) CHECK_THAT(output, Catch::Contains("(rank " + std::to_string(r) + "):"));
+    CHECK(read_text(serial / "lot_a" / "verdict.json") == read_text(dir / "diagnose" / "verdict.json"));
+    CHECK(read_text(serial / "lot_a" / "material_augmented.json") ==
+          read_text(dir / "diagnose" / "material_augmented.json"));
+  }
+
+  // The batch in teams of 2 on 3 ranks (teams {0, 1} and {2}): each lot to a team.
+  output.clear();
+  status = testing_support::run_command(mpirun(3) + batch_args(manifest_file, teams) + " --ranks-per-material 2", output);
+  INFO(output);
+  REQUIRE(status == 0);
+  CHECK_THAT(output, Catch::Contains("2 materials over 3 ranks in teams of 2"));
+  for (const std::string& lot : lots) check_same_material(serial, teams, lot);
+}
+
 TEST_CASE("plan_grasps over 3 ranks writes the serial run's plan", "[mpi]") {
   testing_support::TempDir dir("mpi_plan");
   nlohmann::json goal = nlohmann::json::parse(R"({
@@ -229,5 +290,5 @@ TEST_CASE("a twin command that does not spread over ranks refuses to run under m
       mpirun(2) + " " + TWIN_EXE + " material " + PREPREG_SOURCE_DIR + "/cell/examples/composite_identified.json", output);
   INFO(output);
   CHECK(status != 0);
-  CHECK_THAT(output, Catch::Contains("only 'batch' runs over MPI ranks"));
+  CHECK_THAT(output, Catch::Contains("only 'batch' and 'diagnose' run over MPI ranks"));
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "twin/base/atomic_file.h"
+#include "twin/distributed/byte_codec.h"
 #include "twin/model/material.h"
 
 namespace twin::batch {
@@ -60,8 +62,10 @@ std::string interrupted_run(const fs::path& dir) {
   }
 }
 
+// `team`: the ranks the diagnosis runs on together (null: this process alone); its rank 0
+// writes material.json, as run_diagnosis writes its report there alone.
 BatchRow diagnose_material(const BatchManifest& manifest, const BatchMaterial& material, const fs::path& dir,
-                           const BatchOptions& options) {
+                           const BatchOptions& options, distributed::RankGroup* team) {
   const auto start = std::chrono::steady_clock::now();
   BatchRow row;
   row.name = material.name;
@@ -70,10 +74,14 @@ BatchRow diagnose_material(const BatchManifest& manifest, const BatchMaterial& m
   o.test = material.test;
   o.material = material.material;
   o.report = dir.string();
-  if (options.progress) o.progress = [&](const std::string& line) { options.progress(material.name + ": " + line); };
+  o.ranks = team;
+  const bool leads = !team || team->rank() == 0;
+  if (options.progress && leads) {
+    o.progress = [&](const std::string& line) { options.progress(material.name + ": " + line); };
+  }
   try {
     const diagnosis::DiagnoseOutcome outcome = diagnosis::run_diagnosis(o);
-    write_material_file((dir / "material.json").string(), outcome.material);
+    if (leads) write_material_file((dir / "material.json").string(), outcome.material);
     row.status = "done";
     row.verdict = outcome.verdict.verdict;
     row.effect = outcome.verdict.effect.value_or("");
@@ -120,8 +128,30 @@ BatchRow row_from_json(const nlohmann::json& j) {
 
 namespace {
 
-// One material: read back when finished before, else diagnosed into OUT/NAME.
-BatchRow run_material(const BatchManifest& manifest, std::size_t i, const BatchOptions& options, int rank) {
+// What a team's leader tells its other ranks: diagnose material `index` with me, or (-1) the
+// batch is over.
+void tell_team(distributed::RankGroup& team, int index) {
+  distributed::ByteWriter w;
+  w.put<std::int32_t>(index);
+  team.broadcast_from_rank0(w.bytes());
+}
+
+// A team's other ranks: every material their leader diagnoses, with it, until it says stop.
+void follow_team_leader(const BatchManifest& manifest, const BatchOptions& options, distributed::RankGroup& team) {
+  for (;;) {
+    const std::string bytes = team.broadcast_from_rank0("");
+    distributed::ByteReader r(bytes);
+    const int index = r.get<std::int32_t>();
+    if (index < 0) return;
+    const BatchMaterial& material = manifest.materials.at(static_cast<std::size_t>(index));
+    diagnose_material(manifest, material, fs::path(options.out) / material.name, options, &team);
+  }
+}
+
+// One material: read back when finished before, else diagnosed into OUT/NAME (with `team`,
+// whose leader this rank is, when there is one).
+BatchRow run_material(const BatchManifest& manifest, std::size_t i, const BatchOptions& options, int rank,
+                      distributed::RankGroup* team) {
   const BatchMaterial& material = manifest.materials[i];
   const fs::path dir = fs::path(options.out) / material.name;
   const std::size_t count = manifest.materials.size();
@@ -138,7 +168,8 @@ BatchRow run_material(const BatchManifest& manifest, std::size_t i, const BatchO
     options.progress(fmt::format("{} ({}/{}): diagnosing{}", material.name, i + 1, count,
                                  interrupted.empty() ? "" : " (" + interrupted.substr(0, interrupted.find(';')) + ")"));
   }
-  BatchRow row = diagnose_material(manifest, material, dir, options);
+  if (team) tell_team(*team, static_cast<int>(i));
+  BatchRow row = diagnose_material(manifest, material, dir, options, team);
   row.note = interrupted;
   const nlohmann::json record = {{"fingerprint", material.fingerprint}, {"row", row_json(row)}};
   write_file_atomically(dir / (row.status == "done" ? "done.json" : "failed.json"),
@@ -163,20 +194,32 @@ BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options
   // rank 0 alone while the others wait for work.
   fs::create_directories(out);
   const int rank = ranks.rank();
-  // A material's own failure is its row; an exception here (OUT unwritable) becomes a failed row
-  // too, so that a rank never throws out of the farm and leaves rank 0 waiting.
-  const std::vector<std::string> results =
-      ranks.farm_to_rank0(static_cast<int>(manifest.materials.size()), [&](int i) {
-        try {
-          return row_json(run_material(manifest, static_cast<std::size_t>(i), options, rank)).dump();
-        } catch (const std::exception& e) {
-          BatchRow row;
-          row.name = manifest.materials[static_cast<std::size_t>(i)].name;
-          row.status = "failed";
-          row.error = fmt::format("rank {}: {}", rank, e.what());
-          return row_json(row).dump();
-        }
-      });
+  // Teams of ranks_per_material ranks: materials go to the teams' leaders, each material's
+  // refit searches over its team.
+  std::optional<distributed::Teams> teams;
+  if (options.ranks_per_material > 1) teams = ranks.split_into_teams(options.ranks_per_material);
+  distributed::RankGroup* team = teams ? teams->team.get() : nullptr;
+  std::vector<std::string> results;
+  if (teams && !teams->leaders) {
+    follow_team_leader(manifest, options, *team);
+  } else {
+    // A material's own failure is its row; an exception here (OUT unwritable) becomes a failed
+    // row too, so that a rank never throws out of the farm and leaves rank 0 waiting.
+    distributed::RankGroup& farm = teams ? *teams->leaders : ranks;
+    results = farm.farm_to_rank0(static_cast<int>(manifest.materials.size()), [&](int i) {
+      try {
+        return row_json(run_material(manifest, static_cast<std::size_t>(i), options, rank, team)).dump();
+      } catch (const std::exception& e) {
+        BatchRow row;
+        row.name = manifest.materials[static_cast<std::size_t>(i)].name;
+        row.status = "failed";
+        row.error = fmt::format("rank {}: {}", rank, e.what());
+        return row_json(row).dump();
+      }
+    });
+    if (team) tell_team(*team, -1);
+  }
+  teams.reset();  // before the world's group, as split_into_teams asks
   BatchResult result;
   if (rank != 0) return result;
   for (const std::string& text : results) {

@@ -20,7 +20,8 @@
 // Over MPI ranks (options.ranks, twin/distributed/rank_group.h) whole materials are handed out
 // to whichever rank is free; each rank writes its materials' files (OUT must be one directory
 // all ranks see) and rank 0 the summary. The files are those of a serial run: each material is
-// diagnosed by the same code on the same inputs, wherever it runs.
+// diagnosed by the same code on the same inputs, wherever it runs. With teams
+// (ranks_per_material > 1) a material goes to a team; its leader writes the material's files.
 
 #include <functional>
 #include <string>
@@ -53,6 +54,10 @@ struct BatchOptions {
   std::string out;                                    // OUT
   std::function<void(const std::string&)> progress;   // one line per material, and the diagnosis's
   distributed::RankGroup* ranks = nullptr;            // null: this process alone
+  // Ranks per material (`twin batch --ranks-per-material K`): the ranks are split into teams of K;
+  // materials are handed out to the teams, and each material's refit searches are spread over its
+  // team (diagnose.h). 1: whole materials to single ranks. At most the number of ranks.
+  int ranks_per_material = 1;
 };
 
 struct BatchResult {

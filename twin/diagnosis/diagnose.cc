@@ -13,6 +13,8 @@
 #include "twin/diagnosis/model_form.h"
 #include "twin/diagnosis/noise_estimate.h"
 #include "twin/diagnosis/refit.h"
+#include "twin/diagnosis/refit_search_codec.h"
+#include "twin/distributed/rank_group.h"
 
 namespace twin::diagnosis {
 namespace {
@@ -47,6 +49,64 @@ std::vector<TrialEvaluator*> pointers(const std::vector<std::unique_ptr<TrialEva
 std::string noise_source(const NoiseEstimate& noise, const std::string& fit) {
   if (noise.method == "repeated scans of one pose") return "the training trials' repeated scans of one pose";
   return "the training residuals of " + fit + " (" + noise.method + ")";
+}
+
+// The refits of candidates[refitted[...]], in that order. Their searches (every start of every
+// refit) are independent of each other (refit_search), so they are spread over the ranks first,
+// all together, so that a refit with many starts does not leave ranks idle; then each refit
+// is finished from its searches' results on every rank alike (finish_refit).
+std::vector<Refit> refit_candidates(const std::vector<CandidateEffect>& candidates, const std::vector<int>& refitted,
+                                    const std::vector<CandidateScore>& scores, const std::vector<TrialEvaluator*>& train,
+                                    const std::vector<TrialEvaluator*>& test, const Material& base_fit, double sigma_m,
+                                    const RefitOptions& options, distributed::RankGroup* ranks,
+                                    const std::function<void(const std::string&)>& say,
+                                    const std::function<void(const std::string&)>& progress) {
+  const std::vector<double> ages = marker_stage_ages_s(train);
+  std::vector<std::vector<Material>> starts;
+  struct Search {
+    int refit, start;
+  };
+  std::vector<Search> searches;
+  for (std::size_t i = 0; i < refitted.size(); ++i) {
+    const CandidateScore& score = scores[refitted[i]];
+    starts.push_back(refit_starts(candidates[refitted[i]], base_fit, score.score.step, ages, score.profile,
+                                  options.start_material));
+    for (std::size_t k = 0; k < starts.back().size(); ++k) searches.push_back({static_cast<int>(i), static_cast<int>(k)});
+  }
+  distributed::SingleProcess alone;
+  distributed::RankGroup& group = ranks ? *ranks : alone;
+  if (group.size() > 1 && !searches.empty()) {
+    say(fmt::format("diagnose: {} refit searches over {} ranks", searches.size(), group.size()));
+  }
+  const std::vector<std::string> bytes = group.farm_to_every_rank(static_cast<int>(searches.size()), [&](int j) {
+    const Search& s = searches[j];
+    const CandidateEffect& effect = candidates[refitted[s.refit]];
+    const auto& from = starts[s.refit];
+    if (s.start == 0) say(fmt::format("diagnose: refit with {}", effect.name));
+    return encode_refit_search(refit_search(effect, train, from.front(), from[s.start], options,
+                                            fmt::format("start {} of {}", s.start + 1, from.size()), progress),
+                               group.rank());
+  });
+  std::vector<std::vector<IdentificationResult>> results(refitted.size());
+  for (std::size_t j = 0; j < searches.size(); ++j) {
+    const Search& s = searches[j];
+    const CandidateEffect& effect = candidates[refitted[s.refit]];
+    const IdentificationProblem problem(train, starts[s.refit].front(), effect.refit_parameters);
+    DecodedRefitSearch d = decode_refit_search(bytes[j], problem);
+    if (group.size() > 1) {
+      say(fmt::format("  refit {} start {} of {} (rank {}): {:.3f} mm RMS after {} evaluations", effect.name,
+                      s.start + 1, starts[s.refit].size(), d.rank,
+                      d.result.coordinates.size() > 0 ? std::sqrt(d.result.objective) : NAN,  // objective: mm^2
+                      d.result.evaluations));
+    }
+    results[s.refit].push_back(std::move(d.result));
+  }
+  std::vector<Refit> refits;
+  for (std::size_t i = 0; i < refitted.size(); ++i) {
+    refits.push_back(finish_refit(candidates[refitted[i]], train, test, starts[i], std::move(results[i]), sigma_m,
+                                  options, progress));
+  }
+  return refits;
 }
 
 }  // namespace
@@ -156,14 +216,13 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     // Only candidates whose score test is significant can qualify (verdict.h): the others are
     // not refitted.
     const double alpha = kScoreAlpha / std::max<int>(1, static_cast<int>(order.size()));
+    std::vector<int> refitted;
     for (int k = 0; k < std::min<int>(o.refits, static_cast<int>(order.size())); ++k) {
       if (!(record.scores[order[k]].score.p_value < alpha)) break;
-      const CandidateEffect& effect = candidates[order[k]];
-      say(fmt::format("diagnose: refit with {}", effect.name));
-      record.refits.push_back(refit_candidate(effect, train, test, base.material, record.scores[order[k]].score.step,
-                                              record.scores[order[k]].profile,
-                                              out.sigma_m, refit_options, o.progress));
+      refitted.push_back(order[k]);
     }
+    record.refits = refit_candidates(candidates, refitted, record.scores, train, test, base.material, out.sigma_m,
+                                     refit_options, o.ranks, say, o.progress);
   } else {
     say("diagnose: the base residual is within the noise floor: no refits");
   }
@@ -281,7 +340,8 @@ DiagnoseOutcome run_diagnosis(const DiagnoseOptions& o) {
     out.material = out.verdict.chosen->result.material;
     out.material.name = record.base.material.name + " + " + *out.verdict.effect;
   }
-  out.summary_text = write_diagnosis_files(o, out, record, candidates);
+  // Every rank has the same outcome; one writes it.
+  if (!o.ranks || o.ranks->rank() == 0) out.summary_text = write_diagnosis_files(o, out, record, candidates);
   out.verdict.chosen = nullptr;  // pointed into the record, which ends here
   return out;
 }

@@ -22,6 +22,10 @@
 #include "twin/diagnosis/refit.h"
 #include "twin/diagnosis/verdict.h"
 
+namespace twin::distributed {
+class RankGroup;
+}
+
 namespace twin::diagnosis {
 
 struct DiagnoseOptions {
@@ -42,6 +46,10 @@ struct DiagnoseOptions {
   GradientOptimizer optimizer = kDiagnosisOptimizer;  // of the base fit and every refit
   bool discretisation_check = true;      // the base fit also on a twin of twice the triangles
   std::function<void(const std::string&)> progress;  // progress lines (none when empty)
+  // The ranks of an MPI run the diagnosis runs on, every rank alike (null: this process alone):
+  // the refits' searches are spread over them (diagnose.cc), and rank 0 alone writes the files.
+  // The outcome is the same on every rank and the same as this process alone would reach.
+  distributed::RankGroup* ranks = nullptr;
 };
 
 struct DiagnoseOutcome {

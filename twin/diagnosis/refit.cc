@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -225,16 +226,11 @@ void robust_pass(IdentificationProblem& problem, const Material& null_start,
 
 }  // namespace
 
-Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
-                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
-                      const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
-                      double sigma_m, const RefitOptions& options,
-                      const std::function<void(const std::string&)>& progress) {
-  Refit r;
-  r.effect = effect.name;
-  const std::vector<Material> starts =
-      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile, options.start_material);
-  IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
+IdentificationResult refit_search(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                                  const Material& starts_front, const Material& start, const RefitOptions& options,
+                                  const std::string& label,
+                                  const std::function<void(const std::string&)>& progress) {
+  IdentificationProblem problem(training, starts_front, effect.refit_parameters);
   int count = 0;
   if (progress) {
     problem.on_evaluation = [&](const VecX&, const IdentificationProblem::Evaluation& e) {
@@ -242,16 +238,43 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
                                         1e3 * std::sqrt(e.mean_square_m2), e.seconds)
                           : fmt::format("  refit {} eval {:3d}  failed: {}", effect.name, ++count, e.failure));
     };
+    progress(fmt::format("  refit {} from {}", effect.name, label));
   }
-  std::string failures;
+  for (TrialEvaluator* t : training) t->clear_warm_starts();
+  GradientOptions gradient;
+  gradient.max_evaluations = options.max_evaluations;
+  gradient.optimizer = options.optimizer;
+  gradient.start_coordinates = problem.coordinates_of(start);
+  return identify_gradient(problem, gradient);
+}
+
+Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                      const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
+                      const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,
+                      double sigma_m, const RefitOptions& options,
+                      const std::function<void(const std::string&)>& progress) {
+  const std::vector<Material> starts =
+      refit_starts(effect, base_fit, score_step, marker_stage_ages_s(training), score_profile, options.start_material);
+  std::vector<IdentificationResult> searches;
   for (std::size_t k = 0; k < starts.size(); ++k) {
-    for (TrialEvaluator* t : training) t->clear_warm_starts();
-    if (progress) progress(fmt::format("  refit {} from start {} of {}", effect.name, k + 1, starts.size()));
-    GradientOptions gradient;
-    gradient.max_evaluations = options.max_evaluations;
-    gradient.optimizer = options.optimizer;
-    gradient.start_coordinates = problem.coordinates_of(starts[k]);
-    IdentificationResult result = identify_gradient(problem, gradient);
+    searches.push_back(refit_search(effect, training, starts.front(), starts[k], options,
+                                    fmt::format("start {} of {}", k + 1, starts.size()), progress));
+  }
+  return finish_refit(effect, training, testing, starts, std::move(searches), sigma_m, options, progress);
+}
+
+Refit finish_refit(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                   const std::vector<TrialEvaluator*>& testing, const std::vector<Material>& starts,
+                   std::vector<IdentificationResult> searches, double sigma_m, const RefitOptions& options,
+                   const std::function<void(const std::string&)>& progress) {
+  if (searches.size() != starts.size()) {
+    throw std::invalid_argument(fmt::format("finish_refit: {} search results for {} starts", searches.size(), starts.size()));
+  }
+  Refit r;
+  r.effect = effect.name;
+  IdentificationProblem problem(training, starts.front(), effect.refit_parameters);
+  std::string failures;
+  for (IdentificationResult& result : searches) {
     if (result.coordinates.size() == 0) {
       failures += (failures.empty() ? "" : "; ") + result.stop_reason;
       continue;
@@ -262,6 +285,10 @@ Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEval
     r.failure = "no result: " + failures;
     return r;
   }
+  // The robust pass starts from the kept result's equilibria alone, not from whatever the
+  // searches left in the trials' caches: which searches ran in this process, and in what
+  // order, depends on how they were spread over ranks.
+  for (TrialEvaluator* t : training) t->clear_warm_starts();
   if (options.robust_stages && options.optimizer == GradientOptimizer::kLevenbergMarquardt) {
     robust_pass(problem, starts.front(), training, options, r, progress);
   }

@@ -137,9 +137,26 @@ struct Refit {
 // effect-free score are passed over.
 const Refit* better_branch(const std::vector<Refit>& refits, const SetScore& base_train, double sigma_m);
 
-// identify_gradient from every start of refit_starts(); the best fit (lowest training misfit)
-// is kept, with its intervals and scores. Then the robust pass (Refit::robust), unless
-// options.robust_stages is off.
+// One search of a refit: identify_gradient over effect.refit_parameters from `start` (one of
+// refit_starts, whose first, `starts_front`, gives the problem its fixed properties) on the
+// training trials. Their warm starts are cleared first, so a search depends on nothing done
+// before it: the searches of a refit, and of several refits, can run in any order and on any
+// rank with the same result (diagnose.cc spreads them over an MPI run's ranks). `label`
+// names the search in progress lines ("start 2 of 5").
+IdentificationResult refit_search(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                                  const Material& starts_front, const Material& start, const RefitOptions& options,
+                                  const std::string& label,
+                                  const std::function<void(const std::string&)>& progress = {});
+
+// The rest of a refit, given its searches' results in the order of `starts` (refit_starts):
+// the best fit (lowest training misfit) is kept, then the robust pass (Refit::robust, unless
+// options.robust_stages is off), its intervals and its scores.
+Refit finish_refit(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
+                   const std::vector<TrialEvaluator*>& testing, const std::vector<Material>& starts,
+                   std::vector<IdentificationResult> searches, double sigma_m, const RefitOptions& options,
+                   const std::function<void(const std::string&)>& progress = {});
+
+// refit_search from every start of refit_starts() in turn, then finish_refit.
 Refit refit_candidate(const CandidateEffect& effect, const std::vector<TrialEvaluator*>& training,
                       const std::vector<TrialEvaluator*>& testing, const Material& base_fit,
                       const Eigen::VectorXd& score_step, const std::optional<ScoreProfilePoint>& score_profile,

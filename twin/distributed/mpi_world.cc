@@ -1,13 +1,17 @@
-// join_ranks() of a build with MPI: MPI_COMM_WORLD of the processes mpirun started.
+// join_ranks() of a build with MPI: MPI_COMM_WORLD of the processes mpirun started, and the
+// teams split from it (split_into_teams).
 //
 // Waiting is done by polling with short sleeps (MPI_Test, MPI_Iprobe) rather than in blocking
 // calls: OpenMPI's blocking calls spin a core, and a rank that waits for the others (or rank 0's
 // main thread, which only hands out work) must leave the cores to the ranks still computing.
-// Only the main thread calls MPI (MPI_THREAD_FUNNELED); rank 0's own share of a farm runs on a
-// second thread that never does.
+// Rank 0's own share of a farm runs on a second thread. Without teams that thread never calls
+// MPI; a team's work on it does (on the team's communicator, while the main thread hands out on
+// the leaders'), so MPI is started with MPI_THREAD_MULTIPLE where the library has it, and teams
+// are refused where it has not.
 #include <mpi.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <climits>
@@ -37,16 +41,16 @@ void wait_sleeping(MPI_Request& request) {
   }
 }
 
-void barrier_sleeping() {
+void barrier_sleeping(MPI_Comm comm) {
   MPI_Request request;
-  MPI_Ibarrier(MPI_COMM_WORLD, &request);
+  MPI_Ibarrier(comm, &request);
   wait_sleeping(request);
 }
 
 [[noreturn]] void abort_run(int rank, int index, const std::string& what) {
   std::fprintf(stderr, "rank %d: task %d threw (tasks must return their failures): %s\n", rank, index, what.c_str());
   std::fflush(stderr);
-  MPI_Abort(MPI_COMM_WORLD, 1);
+  MPI_Abort(MPI_COMM_WORLD, 1);  // the whole run, not one team
   std::abort();  // MPI_Abort does not return
 }
 
@@ -74,24 +78,19 @@ std::vector<std::string> all_results(std::vector<std::optional<std::string>> slo
   return results;
 }
 
-class MpiWorld final : public RankGroup {
+// The ranks of one communicator: the world's, or a team's or the team leaders' (split_into_teams).
+class MpiGroup : public RankGroup {
  public:
-  MpiWorld() {
-    int provided = 0;
-    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-    if (provided < MPI_THREAD_FUNNELED) {
-      MPI_Finalize();
-      throw std::runtime_error("this MPI does not let a second thread compute beside MPI (MPI_THREAD_FUNNELED)");
-    }
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  // `owned`: a communicator split from another, freed with the group.
+  MpiGroup(MPI_Comm comm, bool owned, int thread_support) : comm_(comm), owned_(owned), thread_support_(thread_support) {
+    MPI_Comm_rank(comm_, &rank_);
+    MPI_Comm_size(comm_, &size_);
   }
-  ~MpiWorld() override {
-    barrier_sleeping();  // no rank spins in MPI_Finalize while another still computes
-    MPI_Finalize();
+  ~MpiGroup() override {
+    if (owned_) MPI_Comm_free(&comm_);
   }
-  MpiWorld(const MpiWorld&) = delete;
-  MpiWorld& operator=(const MpiWorld&) = delete;
+  MpiGroup(const MpiGroup&) = delete;
+  MpiGroup& operator=(const MpiGroup&) = delete;
 
   int rank() const override { return rank_; }
   int size() const override { return size_; }
@@ -99,10 +98,10 @@ class MpiWorld final : public RankGroup {
   std::vector<std::string> map_on_every_rank(int count, const Task& task) override {
     ByteWriter mine;
     for (int i = rank_; i < count; i += size_) mine.put<std::int32_t>(i).put_string(run_or_abort(task, i, rank_));
-    barrier_sleeping();
+    barrier_sleeping(comm_);
     const int length = byte_count(mine.bytes());
     std::vector<int> lengths(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
-    MPI_Allgather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    MPI_Allgather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, comm_);
     long long total = 0;
     for (int r = 0; r < size_; ++r) {
       offsets[r] = static_cast<int>(total);
@@ -111,7 +110,7 @@ class MpiWorld final : public RankGroup {
     if (total > INT_MAX) throw std::runtime_error("the tasks' results exceed 2 GB together");
     std::string all(static_cast<std::size_t>(total), '\0');
     MPI_Allgatherv(mine.bytes().data(), length, MPI_BYTE, all.data(), lengths.data(), offsets.data(), MPI_BYTE,
-                   MPI_COMM_WORLD);
+                   comm_);
     std::vector<std::optional<std::string>> slots(static_cast<std::size_t>(count));
     ByteReader reader(all);
     while (!reader.at_end()) {
@@ -124,6 +123,22 @@ class MpiWorld final : public RankGroup {
 
   std::vector<std::string> farm_to_rank0(int count, const Task& task) override {
     return rank_ == 0 ? hand_out(count, task) : work_for_rank0(task);
+  }
+
+  std::string broadcast_from_rank0(const std::string& bytes) override {
+    std::uint64_t length = rank_ == 0 ? bytes.size() : 0;
+    MPI_Request request;
+    MPI_Ibcast(&length, 1, MPI_UINT64_T, 0, comm_, &request);
+    wait_sleeping(request);
+    std::string out = rank_ == 0 ? bytes : std::string(static_cast<std::size_t>(length), '\0');
+    // In pieces under 2 GB: MPI counts are ints.
+    constexpr std::uint64_t kPiece = 1u << 30;
+    for (std::uint64_t at = 0; at < length; at += kPiece) {
+      const int n = static_cast<int>(std::min(kPiece, length - at));
+      MPI_Ibcast(out.data() + at, n, MPI_BYTE, 0, comm_, &request);
+      wait_sleeping(request);
+    }
+    return out;
   }
 
  private:
@@ -164,7 +179,7 @@ class MpiWorld final : public RankGroup {
       }
       int arrived = 0;
       MPI_Status status;
-      MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &arrived, &status);
+      MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, comm_, &arrived, &status);
       if (!arrived) {
         std::this_thread::sleep_for(kPollInterval);
         continue;
@@ -172,7 +187,7 @@ class MpiWorld final : public RankGroup {
       int length = 0;
       MPI_Get_count(&status, MPI_BYTE, &length);
       buffer.resize(static_cast<std::size_t>(length));
-      MPI_Recv(buffer.data(), length, MPI_BYTE, status.MPI_SOURCE, kResultTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      MPI_Recv(buffer.data(), length, MPI_BYTE, status.MPI_SOURCE, kResultTag, comm_, MPI_STATUS_IGNORE);
       ByteReader reader(buffer);
       const int index = reader.get<std::int32_t>();
       if (index >= count) throw std::runtime_error("farm_to_rank0: a rank sent a result for task " + std::to_string(index));
@@ -182,7 +197,7 @@ class MpiWorld final : public RankGroup {
         slots[index] = std::move(result);
       }
       const std::int32_t assigned = take();
-      MPI_Send(&assigned, 1, MPI_INT32_T, status.MPI_SOURCE, kTaskTag, MPI_COMM_WORLD);
+      MPI_Send(&assigned, 1, MPI_INT32_T, status.MPI_SOURCE, kTaskTag, comm_);
       if (assigned < 0) --working;
     }
     local.join();
@@ -196,11 +211,11 @@ class MpiWorld final : public RankGroup {
     for (;;) {
       const std::string bytes = message.take();
       MPI_Request sent;
-      MPI_Isend(bytes.data(), byte_count(bytes), MPI_BYTE, 0, kResultTag, MPI_COMM_WORLD, &sent);
+      MPI_Isend(bytes.data(), byte_count(bytes), MPI_BYTE, 0, kResultTag, comm_, &sent);
       wait_sleeping(sent);
       std::int32_t index = -1;
       MPI_Request received;
-      MPI_Irecv(&index, 1, MPI_INT32_T, 0, kTaskTag, MPI_COMM_WORLD, &received);
+      MPI_Irecv(&index, 1, MPI_INT32_T, 0, kTaskTag, comm_, &received);
       wait_sleeping(received);
       if (index < 0) return {};
       message = ByteWriter();
@@ -208,7 +223,50 @@ class MpiWorld final : public RankGroup {
     }
   }
 
+  Teams split_into_teams(int team_size) override {
+    check_team_size(team_size, size_);
+    if (thread_support_ < MPI_THREAD_MULTIPLE) {
+      throw std::runtime_error("teams of ranks need an MPI with MPI_THREAD_MULTIPLE (a team's work on rank 0's "
+                               "computing thread calls MPI); this one has not: run with --ranks-per-material 1");
+    }
+    MPI_Comm team, leaders;
+    MPI_Comm_split(comm_, rank_ / team_size, rank_, &team);
+    MPI_Comm_split(comm_, rank_ % team_size == 0 ? 0 : MPI_UNDEFINED, rank_, &leaders);
+    Teams teams;
+    teams.team = std::make_unique<MpiGroup>(team, true, thread_support_);
+    if (leaders != MPI_COMM_NULL) teams.leaders = std::make_unique<MpiGroup>(leaders, true, thread_support_);
+    teams.team_index = rank_ / team_size;
+    teams.team_count = (size_ + team_size - 1) / team_size;
+    return teams;
+  }
+
+ protected:
+  MPI_Comm comm_;
+  bool owned_ = false;
+  int thread_support_ = MPI_THREAD_FUNNELED;
   int rank_ = 0, size_ = 1;
+};
+
+// Starts MPI before the world's group is made, and finishes it after the group (and every team
+// split from it, which must be gone by then) is done with.
+struct MpiRuntime {
+  int thread_support = 0;
+  MpiRuntime() {
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_MULTIPLE, &thread_support);
+    if (thread_support < MPI_THREAD_FUNNELED) {
+      MPI_Finalize();
+      throw std::runtime_error("this MPI does not let a second thread compute beside MPI (MPI_THREAD_FUNNELED)");
+    }
+  }
+  ~MpiRuntime() { MPI_Finalize(); }
+};
+
+class MpiWorld final : private MpiRuntime, public MpiGroup {
+ public:
+  MpiWorld() : MpiRuntime(), MpiGroup(MPI_COMM_WORLD, false, thread_support) {}
+  ~MpiWorld() override {
+    barrier_sleeping(MPI_COMM_WORLD);  // no rank spins in MPI_Finalize while another still computes
+  }
 };
 
 }  // namespace

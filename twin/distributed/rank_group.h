@@ -18,6 +18,8 @@ namespace twin::distributed {
 
 using Task = std::function<std::string(int index)>;
 
+struct Teams;
+
 class RankGroup {
  public:
   virtual ~RankGroup() = default;
@@ -34,7 +36,31 @@ class RankGroup {
   // thread of its own while its main thread hands out); results in index order on rank 0, empty
   // vectors elsewhere. For tasks of very different cost (whole materials of a batch).
   virtual std::vector<std::string> farm_to_rank0(int count, const Task& task) = 0;
+
+  // Every rank calls it at the same point; every rank returns rank 0's `bytes` (the others'
+  // are ignored).
+  virtual std::string broadcast_from_rank0(const std::string& bytes) = 0;
+
+  // farm_to_rank0, then rank 0's results sent to every rank: tasks of very different cost whose
+  // results every rank goes on with (the searches of a diagnosis's refits).
+  std::vector<std::string> farm_to_every_rank(int count, const Task& task);
+
+  // Every rank calls it at the same point with the same size: the ranks in consecutive teams of
+  // `team_size` (the last one smaller when it does not divide), for work spread first over teams
+  // and then inside each (a batch's materials over teams, each material's refit searches over
+  // its team). Throws std::invalid_argument unless 1 <= team_size <= size(). The teams must be
+  // destroyed before this group.
+  virtual Teams split_into_teams(int team_size) = 0;
 };
+
+struct Teams {
+  std::unique_ptr<RankGroup> team;     // this rank's team; its rank 0 leads it
+  std::unique_ptr<RankGroup> leaders;  // the teams' leaders (on a leader; null on the others)
+  int team_index = 0, team_count = 1;
+};
+
+// The check of split_into_teams' argument.
+void check_team_size(int team_size, int ranks);
 
 // This process alone.
 class SingleProcess final : public RankGroup {
@@ -43,6 +69,8 @@ class SingleProcess final : public RankGroup {
   int size() const override { return 1; }
   std::vector<std::string> map_on_every_rank(int count, const Task& task) override;
   std::vector<std::string> farm_to_rank0(int count, const Task& task) override;
+  std::string broadcast_from_rank0(const std::string& bytes) override { return bytes; }
+  Teams split_into_teams(int team_size) override;
 };
 
 // True when this process was started by mpirun (OpenMPI's OMPI_COMM_WORLD_SIZE or a PMI

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -17,6 +18,10 @@ CLI::App* add_batch_command(CLI::App& app, BatchArguments& a) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", a.out, "output directory: one sub-directory per material, summary.json, summary.md")
       ->required();
+  cmd->add_option("--ranks-per-material", a.ranks_per_material,
+                  "under mpirun: ranks that diagnose one material together, its refit searches spread over them "
+                  "(default 1: whole materials to single ranks)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--quiet", a.quiet, "no progress lines");
   return cmd;
 }
@@ -28,6 +33,12 @@ int run_batch_command(const BatchArguments& a) {
   twin::batch::BatchOptions options;
   options.out = a.out;
   options.ranks = ranks.get();
+  options.ranks_per_material = a.ranks_per_material;
+  if (a.ranks_per_material > ranks->size()) {
+    throw std::invalid_argument(fmt::format("--ranks-per-material {}: more than the {} rank(s) of this run "
+                                            "(start it with mpirun -np N, N at least {})",
+                                            a.ranks_per_material, ranks->size(), a.ranks_per_material));
+  }
   const std::string prefix = ranks->size() > 1 ? fmt::format("[rank {}/{}] ", ranks->rank(), ranks->size()) : "";
   if (!a.quiet) {
     options.progress = [prefix](const std::string& line) {
@@ -36,7 +47,8 @@ int run_batch_command(const BatchArguments& a) {
     };
   }
   if (ranks->rank() == 0 && ranks->size() > 1 && !a.quiet) {
-    fmt::print("twin batch: {} materials over {} ranks\n", manifest.materials.size(), ranks->size());
+    fmt::print("twin batch: {} materials over {} ranks{}\n", manifest.materials.size(), ranks->size(),
+               a.ranks_per_material > 1 ? fmt::format(" in teams of {}", a.ranks_per_material) : "");
   }
   const twin::batch::BatchResult result = twin::batch::run_batch(manifest, options);
   if (ranks->rank() != 0) return 0;  // rank 0 reports for all

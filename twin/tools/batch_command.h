@@ -1,7 +1,8 @@
 #pragma once
-// `[mpirun -np N] twin batch MANIFEST --out DIR`: diagnoses every material of a manifest, resumable,
-// whole materials spread over the MPI ranks when started by mpirun (twin/batch/batch_runner.h;
-// docs/batch.md).
+// `[mpirun -np N] twin batch MANIFEST --out DIR [--ranks-per-material K]`: diagnoses every
+// material of a manifest, resumable, whole materials spread over the MPI ranks (or over teams of
+// K ranks, each material's refit searches over its team) when started by mpirun
+// (twin/batch/batch_runner.h; docs/batch.md).
 
 #include <string>
 
@@ -11,6 +12,7 @@ namespace twin_cli {
 
 struct BatchArguments {
   std::string manifest, out;
+  int ranks_per_material = 1;
   bool quiet = false;
 };
 

@@ -2,9 +2,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include <fmt/format.h>
 
+#include "twin/distributed/rank_group.h"
 #include "twin/trials/clamp_refinement_option.h"
 
 namespace twin_cli {
@@ -44,6 +46,12 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseArguments& a) {
 }
 
 int run_diagnose(DiagnoseArguments& a) {
+  // First, so that every rank meets the same errors after MPI started (and MPI finishes last).
+  // Every rank runs the diagnosis alike and spreads the refits' searches; rank 0 prints and
+  // writes.
+  const std::unique_ptr<twin::distributed::RankGroup> ranks = twin::distributed::join_ranks();
+  a.options.ranks = ranks.get();
+  if (ranks->rank() != 0) a.quiet = true;
   if (!a.optimizer.empty()) a.options.optimizer = twin::optimizer_from_name(a.optimizer);
   const twin::ClampRefinement refinement = twin::parse_clamp_refinement(a.clamp_refinement);
   a.options.clamp_refinement_radii_m = refinement.radii_m;
@@ -55,6 +63,7 @@ int run_diagnose(DiagnoseArguments& a) {
     };
   }
   const twin::diagnosis::DiagnoseOutcome outcome = twin::diagnosis::run_diagnosis(a.options);
+  if (ranks->rank() != 0) return 0;
   fmt::print("\n{}", outcome.summary_text);
   if (!outcome.summary_text.empty() && outcome.summary_text.back() != '\n') fmt::print("\n");
   const std::filesystem::path dir(a.options.report);

@@ -164,12 +164,12 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   try {
-    // Only the batch spreads its work over ranks; any other command under mpirun -np N would run
-    // N times into the same files.
+    // Only the batch and the diagnosis spread their work over ranks; any other command under
+    // mpirun -np N would run N times into the same files.
     int ranks = 1;
-    if (!*batch_cmd && twin::distributed::launched_by_mpirun(&ranks) && ranks > 1) {
-      throw std::runtime_error(fmt::format("started by mpirun with {} ranks: of the twin's commands only 'batch' "
-                                           "runs over MPI ranks; run this one without mpirun",
+    if (!*batch_cmd && !*diagnose_cmd && twin::distributed::launched_by_mpirun(&ranks) && ranks > 1) {
+      throw std::runtime_error(fmt::format("started by mpirun with {} ranks: of the twin's commands only 'batch' and "
+                                           "'diagnose' run over MPI ranks; run this one without mpirun",
                                            ranks));
     }
     if (*solve_cmd) return solve(scenario, out_dir, verbose);

@@ -32,7 +32,8 @@ TEST_CASE("bytes carry numbers bit for bit, strings and arrays whole, and a shor
   CHECK(r.at_end());
   CHECK_THROWS_WITH(r.get<int>(), Catch::Contains("ends early"));
 
-  ByteReader truncated_string(bytes.substr(0, sizeof(int) + sizeof(double) + 10));
+  const std::string cut = bytes.substr(0, sizeof(int) + sizeof(double) + 10);
+  ByteReader truncated_string(cut);
   truncated_string.get<int>();
   truncated_string.get<double>();
   CHECK_THROWS_WITH(truncated_string.get_string(), Catch::Contains("ends early"));
@@ -55,4 +56,22 @@ TEST_CASE("one process runs every task in order, both ways", "[distributed]") {
   CHECK(one.farm_to_rank0(3, task) == std::vector<std::string>{"0", "1", "4"});
   CHECK(ran == std::vector<int>{0, 1, 2, 3, 0, 1, 2});
   CHECK(one.map_on_every_rank(0, task).empty());
+}
+
+TEST_CASE("one process farms to every rank, broadcasts to itself, and is one team of one", "[distributed]") {
+  twin::distributed::SingleProcess one;
+  std::vector<int> ran;
+  CHECK(one.farm_to_every_rank(3, [&](int i) {
+    ran.push_back(i);
+    return std::string(static_cast<std::size_t>(i), 'x');
+  }) == std::vector<std::string>{"", "x", "xx"});
+  CHECK(ran == std::vector<int>{0, 1, 2});
+  CHECK(one.broadcast_from_rank0(std::string("a\0b", 3)) == std::string("a\0b", 3));
+  const twin::distributed::Teams teams = one.split_into_teams(1);
+  REQUIRE(teams.team);
+  REQUIRE(teams.leaders);
+  CHECK(teams.team->size() == 1);
+  CHECK(teams.team_count == 1);
+  CHECK_THROWS_WITH(one.split_into_teams(2), Catch::Contains("teams of 2 ranks") && Catch::Contains("1 rank(s)"));
+  CHECK_THROWS_AS(one.split_into_teams(0), std::invalid_argument);
 }
