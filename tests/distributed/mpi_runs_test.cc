@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -57,18 +58,22 @@ std::string read_text(const fs::path& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// Three materials, each with its own training trial, sharing one held-out trial.
-fs::path write_batch_inputs(const testing_support::TempDir& dir) {
+// Materials `names`, each with its own training trial (seeds first_seed, first_seed + 1, ...),
+// sharing one held-out trial (test_seed), of the composite or of `truth`; the manifest's path.
+fs::path write_batch_inputs(const testing_support::TempDir& dir, const std::vector<std::string>& names,
+                            std::uint64_t first_seed, std::uint64_t test_seed,
+                            const std::optional<twin::Material>& truth = std::nullopt) {
   auto trial = [&](const std::string& name, std::uint64_t seed) {
-    const sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(seed, kTriangles);
+    sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(seed, kTriangles);
+    config.material_override = truth;
     const fs::path path = dir / "trials" / name;
     sim_hw::write_lab_trial(sim_hw::make_lab_trial(config), config, path.string(), path.string() + "_truth");
   };
-  trial("test", 4);
+  trial("test", test_seed);
   nlohmann::json materials = nlohmann::json::array();
-  for (std::size_t i = 0; i < kMaterials.size(); ++i) {
-    trial(kMaterials[i], 11 + i);
-    materials.push_back({{"name", kMaterials[i]}, {"train", {"trials/" + kMaterials[i]}}, {"test", {"trials/test"}}});
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    trial(names[i], first_seed + i);
+    materials.push_back({{"name", names[i]}, {"train", {"trials/" + names[i]}}, {"test", {"trials/test"}}});
   }
   const nlohmann::json manifest = {
       {"materials", materials},
@@ -118,7 +123,7 @@ TEST_CASE("tasks spread over 3 ranks run once each and their results arrive in o
 
 TEST_CASE("twin batch over 3 ranks writes what the serial batch writes, and resumes a killed run", "[mpi]") {
   testing_support::TempDir dir("mpi_batch");
-  const fs::path manifest = write_batch_inputs(dir);
+  const fs::path manifest = write_batch_inputs(dir, kMaterials, 11, 4);
   const fs::path serial = dir / "serial", spread = dir / "mpi", killed = dir / "killed";
 
   std::string output;
@@ -200,24 +205,7 @@ TEST_CASE("one diagnosis's refit searches over 3 ranks, and a batch in teams, gi
   twin::Material truth = sim_hw::lab_specimen("composite").truth;
   truth.bending_rigidity_v_Nm = 0.4 * truth.bending_rigidity_u_Nm;
   const std::vector<std::string> lots = {"lot_a", "lot_b"};
-  auto trial = [&](const std::string& name, std::uint64_t seed) {
-    sim_hw::ScannerLabConfig config = testing_support::uniform_lab_config(seed, kTriangles);
-    config.material_override = truth;
-    const fs::path path = dir / "trials" / name;
-    sim_hw::write_lab_trial(sim_hw::make_lab_trial(config), config, path.string(), path.string() + "_truth");
-  };
-  trial("test", 6);
-  nlohmann::json materials = nlohmann::json::array();
-  for (std::size_t i = 0; i < lots.size(); ++i) {
-    trial(lots[i], 21 + i);
-    materials.push_back({{"name", lots[i]}, {"train", {"trials/" + lots[i]}}, {"test", {"trials/test"}}});
-  }
-  const nlohmann::json manifest = {
-      {"materials", materials},
-      {"diagnose", {{"triangles", kTriangles}, {"path_triangles", 0}, {"refits", 1},
-                    {"effects", "orthotropic_stiffness"}, {"noise_mm", 0.3}, {"discretisation_check", false}}}};
-  const fs::path manifest_file = dir / "manifest.json";
-  std::ofstream(manifest_file) << manifest.dump(2);
+  const fs::path manifest_file = write_batch_inputs(dir, lots, 21, 6, truth);
   const fs::path serial = dir / "serial", teams = dir / "teams";
   std::string output;
   REQUIRE(testing_support::run_command(batch_args(manifest_file, serial), output) == 0);  // serial: no mpirun
