@@ -25,23 +25,31 @@ cd "$(dirname "$0")/.."
 #    cell cases that must keep the cell's 10 Hz against its watchdog limits (cell_real_time,
 #    tests/CMakeLists.txt), which this build runs some 25 times slower; the long identification,
 #    diagnosis and learning cases (one identification end to end runs below).
-bash scripts/install_packages.sh clang libclang-rt-14-dev libomp-14-dev
+source scripts/phase.sh
+phase "install clang" bash scripts/install_packages.sh clang libclang-rt-14-dev libomp-14-dev
 # Without MPI (-DPREPREG_WITH_MPI=OFF): this tree is the build a machine without OpenMPI gets, so
 # its batch and grasp-planning tests check that one; the MPI runs are the Release suite's label mpi.
-CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPREPREG_SANITIZE=ON \
+CC=clang CXX=clang++ phase "configure sanitizer" cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPREPREG_SANITIZE=ON \
   -DPREPREG_WITH_MPI=OFF -DPREPREG_SANITIZE_ACCESS_CHECKS=OFF -DPREPREG_FUZZ=ON -DPREPREG_FUZZ_COVERAGE=edges \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
-cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
+phase "build sanitizer" cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
   iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
   camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests batch_tests fuzz_harnesses
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two cores (scripts/test.sh)
-ctest --test-dir build-asan --output-on-failure -j2 \
+# Each ctest call selects by label or name: --no-tests=error fails one that selects nothing, and
+# its junit file shows that every selected entry ran and passed (no skips): check_tests_ran.sh.
+results="$PWD/build-asan/test-results"
+rm -rf "$results" && mkdir -p "$results"
+phase "test sanitizer" ctest --test-dir build-asan --output-on-failure -j2 --no-tests=error --output-junit "$results/sanitizer.xml" \
   -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell|batch)$"
 # Identification end to end (lab trial, evaluator, adjoint and tangents) once under the
 # sanitizers; the other identification cases repeat the same code paths for longer.
-ctest --test-dir build-asan -R "adjoint gradient of the marker misfit" --output-on-failure
+phase "test sanitizer identification" ctest --test-dir build-asan -R "adjoint gradient of the marker misfit" --output-on-failure \
+  --no-tests=error --output-junit "$results/identification.xml"
 
 # 2. Smoke fuzzing: each harness replays its committed corpus (regression inputs included), then
-#    fuzzes for 20 s (scripts/run_fuzzer.sh; PREPREG_FUZZ_SMOKE_SECONDS).
-ctest --test-dir build-asan -L fuzz_smoke --output-on-failure -j2
+#    fuzzes for a few seconds (scripts/run_fuzzer.sh; PREPREG_FUZZ_SMOKE_SECONDS).
+phase "fuzz smoke" ctest --test-dir build-asan -L fuzz_smoke --output-on-failure -j2 --no-tests=error \
+  --output-junit "$results/fuzz_smoke.xml"
+bash scripts/check_tests_ran.sh --selected build-asan "$results"/*.xml

@@ -174,7 +174,7 @@ TEST_CASE("watchdog: SIM_FAULT twin diverge -> SAFE_HOLD only with fault injecti
   }
 }
 
-TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps span the cycles; in lockstep they wait",
+TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps span the cycles, in lockstep they wait",
           "[cell]") {
   auto slow = [](drivers::LcmBus& bus, bool active) {
     prepreg_lcm::sim_fault_t f{};

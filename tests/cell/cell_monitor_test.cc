@@ -242,7 +242,7 @@ TEST_CASE("a cell restart starts a new run of cycle ids", "[monitor]") {
   CHECK_THAT(cell::format_summary(s, h.bus.counters()), Catch::Contains("cell restarts: 1"));
 }
 
-TEST_CASE("calibration events are shown as they come and listed in the summary; a malformed one is dropped",
+TEST_CASE("calibration events are shown as they come and listed in the summary, a malformed one is dropped",
           "[monitor]") {
   Harness h;
   std::vector<cell::CalibrationEvent> seen;
@@ -282,7 +282,7 @@ TEST_CASE("calibration events are shown as they come and listed in the summary; 
   CHECK(bus.counters().rejected == 1);
 }
 
-TEST_CASE("diagnosis events are shown as they come and listed in the summary; a malformed one is dropped",
+TEST_CASE("diagnosis events are shown as they come and listed in the summary, a malformed one is dropped",
           "[monitor]") {
   Harness h;
   std::vector<cell::DiagnosisEvent> seen;

@@ -225,7 +225,7 @@ TEST_CASE("unsubscribe stops delivery", "[lcm_bus]") {
   CHECK(calls == 1);
 }
 
-TEST_CASE("a callback may unsubscribe; nothing more reaches it", "[lcm_bus]") {
+TEST_CASE("a callback may unsubscribe, nothing more reaches it", "[lcm_bus]") {
   LcmBus bus("memq://");
   int first_calls = 0, second_calls = 0;
   LcmBus::SubscriptionId second = 0;

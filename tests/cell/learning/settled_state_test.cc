@@ -91,7 +91,7 @@ TEST_CASE("a moving grasp, a release or a sheet still swinging is no settled sta
   CHECK(after.front().vertices_m[0].z() == Approx(0.5).margin(0.002));
 }
 
-TEST_CASE("a noisy tracker still settles; vertices seen in too few cycles are left out") {
+TEST_CASE("a noisy tracker still settles, vertices seen in too few cycles are left out") {
   Feed noisy;
   // 8 mm per coordinate: the half-window means differ by several mm from the noise alone.
   CHECK(noisy.run(8.0, kGrasps, {1, 1}, sheet_at(0.6), 0.008).size() == 2);

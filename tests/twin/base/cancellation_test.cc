@@ -34,7 +34,7 @@ twin::SolveReport hang(int* iterations = nullptr) {
 
 }  // namespace
 
-TEST_CASE("a set cancellation flag stops Newton at once; an unset or absent one changes nothing", "[cancellation]") {
+TEST_CASE("a set cancellation flag stops Newton at once, an unset or absent one changes nothing", "[cancellation]") {
   int free_iterations = 0;
   REQUIRE(hang(&free_iterations).usable());
   REQUIRE(free_iterations > 2);

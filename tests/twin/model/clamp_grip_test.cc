@@ -66,7 +66,7 @@ TEST_CASE("clamp grip: gradient and Hessian match finite differences", "[twin][e
   CHECK(errors.hessian < 1e-6);
 }
 
-TEST_CASE("clamp grip: absent at zero strength and for a released clamp; no force under rigid motion",
+TEST_CASE("clamp grip: absent at zero strength and for a released clamp, no force under rigid motion",
           "[twin][clamp_grip]") {
   std::mt19937 rng(5);
   Cantilever c(0.0);

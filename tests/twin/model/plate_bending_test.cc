@@ -130,7 +130,7 @@ TEST_CASE("a cylinder costs D(direction)/2 kappa^2 per area, the direction's pla
   }
 }
 
-TEST_CASE("a sheet curved at rest stores nothing in its rest shape; stiffening is isotropic",
+TEST_CASE("a sheet curved at rest stores nothing in its rest shape, stiffening is isotropic",
           "[twin][energy]") {
   const SheetMesh mesh = make_rectangular_sheet(0.3, 0.24, 0.02);
   PlateBendingTerm term(mesh, kRigidity);

@@ -336,7 +336,7 @@ TEST_CASE("a system that does not hold the sheet is reported as not positive def
   }
 }
 
-TEST_CASE("update refactorises at a new material's equilibrium; a stale factor is refused",
+TEST_CASE("update refactorises at a new material's equilibrium, a stale factor is refused",
           "[twin][sensitivity]") {
   Rig rig;
   EquilibriumSensitivity sensitivity(rig.model, rig.dofs, rig.x);

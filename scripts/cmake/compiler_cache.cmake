@@ -1,0 +1,26 @@
+# Compiles through ccache when the machine has it (scripts/setup.sh installs it), so a second
+# build of the same sources - another build type's tree, a fresh clone in another folder, CI
+# after a session on the same machine - takes its objects from the cache instead of compiling
+# them again. A cold cache costs a few percent over a plain build.
+#
+# The settings travel on the launcher's command line, not in the user's ccache.conf:
+# - base_dir = the source tree: absolute paths under it are hashed relative to the build
+#   directory, so two clones in different folders share entries;
+# - hash_dir = false: -g1 (the sanitizer tree) would otherwise hash the build directory;
+# - sloppiness pch_defines,time_macros + include_file_mtime/ctime: what ccache needs to cache
+#   compilations that use the precompiled header (scripts/cmake/precompiled_headers.cmake), whose
+#   .gch is rebuilt with a new time stamp in each tree.
+# PREPREG_CCACHE=OFF compiles directly.
+option(PREPREG_CCACHE "Compile through ccache when it is installed" ON)
+find_program(PREPREG_CCACHE_PROGRAM ccache)
+if(PREPREG_CCACHE AND PREPREG_CCACHE_PROGRAM AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  set(prepreg_ccache_launcher
+      ${CMAKE_COMMAND} -E env
+      CCACHE_BASEDIR=${PROJECT_SOURCE_DIR}
+      CCACHE_NOHASHDIR=1
+      CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${PREPREG_CCACHE_PROGRAM})
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${prepreg_ccache_launcher})
+  set(CMAKE_C_COMPILER_LAUNCHER ${prepreg_ccache_launcher})
+  message(STATUS "Compiling through ${PREPREG_CCACHE_PROGRAM} (PREPREG_CCACHE=OFF to compile directly)")
+endif()
