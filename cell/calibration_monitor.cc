@@ -40,6 +40,12 @@ void CalibrationMonitor::take_up_finished() {
   }
 }
 
+bool CalibrationMonitor::wait_for_running_check() const {
+  if (!running_.valid()) return false;
+  running_.wait();
+  return true;
+}
+
 void CalibrationMonitor::record(std::string verdict) {
   if (verdict.empty()) {
     disagreeing_in_a_row_ = 0;

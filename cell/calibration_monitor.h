@@ -57,6 +57,10 @@ class CalibrationMonitor {
   // (check_now reports at once); then the latest check's verdict.
   const std::string& problem() const { return problem_; }
   int checks_finished() const { return finished_; }
+  // Blocks until the check running on the worker (if any) has finished, without taking it up:
+  // the next after_tracked_cycle does. True when one was running. For tests, which step the
+  // monitor cycle by cycle rather than give a check so much wall-clock time to finish.
+  bool wait_for_running_check() const;
 
  private:
   void take_up_finished();

@@ -122,6 +122,11 @@ class CellController {
   // when both are done. A worker that is not is let go (BackgroundWorker::finish_or_let_go): the
   // process should then end with std::_Exit. Also run (with 2 s) by the destructor.
   bool shut_down_background(std::chrono::milliseconds timeout);
+  // Blocks until the calibration, diagnosis and branch candidate running in the background (if
+  // any) have finished, without taking them up: the next cycle() does, as it would have. True
+  // when one was running. For tests and offline tools, which must await a fit by its result:
+  // how long it takes depends on the machine and what else runs on it, not on the cell.
+  bool wait_for_background_learning();
   // Calibrations finished, and the latest one (nullopt before the first).
   int calibrations() const { return calibrations_; }
   int calibrations_adopted() const { return calibrations_adopted_; }

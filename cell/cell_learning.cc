@@ -358,6 +358,21 @@ void CellController::collect_diagnosis() {
   last_diagnosis_ = std::move(job.result);
 }
 
+bool CellController::wait_for_background_learning() {
+  bool waited = false;
+  // A diagnosis waits on the calibration worker behind the calibration that came before it, and
+  // a branch candidate runs on its own worker: each future is awaited where it is.
+  const auto await = [&](const auto& job) {
+    if (!job.valid()) return;
+    job.wait();
+    waited = true;
+  };
+  await(calibration_job_);
+  await(diagnosis_job_);
+  await(branch_job_);
+  return waited;
+}
+
 std::string CellController::write_observed_trial(const std::string& directory) const {
   if (!twin_ || settled_states_.states().empty()) return "no settled state recorded";
   try {

@@ -68,6 +68,10 @@ int main(int argc, char** argv) {
       }
       bus.handle_for(std::chrono::milliseconds(100));
     }
+    // Messages that arrived before the stop (a signal may cut the last wait short) still count:
+    // a script that stops the monitor once its publisher has exited gets every cycle published.
+    while (bus.handle_for(std::chrono::milliseconds(0)).messages > 0) {
+    }
     monitor.flush();
     if (summary) fmt::print("{}", cell::format_summary(monitor.summary(), bus.counters()));
   } catch (const std::exception& e) {

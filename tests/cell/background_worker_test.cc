@@ -75,26 +75,36 @@ TEST_CASE("finish_or_let_go waits for an idle worker, lets a busy one go and dro
   {
     BackgroundWorker w;
     CHECK(w.submit([] { return 1; }).get() == 1);
-    CHECK(w.finish_or_let_go(std::chrono::milliseconds(500)));
+    // The worker is idle or about to be (it marks itself so after its task): the wait ends at
+    // once. 60 s only keeps a broken worker from hanging the test.
+    CHECK(w.finish_or_let_go(std::chrono::seconds(60)));
   }
+  // The first task runs until released and says when it has started and when it has finished,
+  // so nothing below depends on how soon a thread gets the CPU.
   auto release = std::make_shared<std::atomic<bool>>(false);
-  auto finished = std::make_shared<std::atomic<bool>>(false);
+  auto started = std::make_shared<std::promise<void>>();
+  auto finished = std::make_shared<std::promise<void>>();
+  std::future<void> has_started = started->get_future(), has_finished = finished->get_future();
   std::future<int> second;
   {
     BackgroundWorker w;
-    std::future<void> first = w.submit([release, finished] {
+    std::future<void> first = w.submit([release, started, finished] {
+      started->set_value();
       while (!release->load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      finished->store(true);
+      finished->set_value();
     });
     second = w.submit([] { return 2; });
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // The first task runs; the second waits its turn. (60 s: only so that a broken worker fails
+    // the test rather than hangs it; here and below no time is asserted.)
+    REQUIRE(has_started.wait_for(std::chrono::seconds(60)) == std::future_status::ready);
+    // The running task cannot end before it is released: this waits the full 50 ms, then lets go.
     CHECK_FALSE(w.finish_or_let_go(std::chrono::milliseconds(50)));
   }  // the destructor does not wait for the task let go
-  CHECK_FALSE(finished->load());
+  CHECK(has_finished.wait_for(std::chrono::seconds(0)) == std::future_status::timeout);
   CHECK_THROWS_AS(second.get(), std::future_error);  // dropped, never run
   release->store(true);
-  for (int i = 0; i < 1000 && !finished->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  CHECK(finished->load());
+  // The task let go still ends on its own.
+  CHECK(has_finished.wait_for(std::chrono::seconds(60)) == std::future_status::ready);
 }
 
 }  // namespace

@@ -2,10 +2,8 @@
 // and reported after three disagreeing checks in a row.
 #include <catch2/catch.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include "cell/calibration_monitor.h"
 
@@ -30,14 +28,16 @@ tracking::SensorCloud two_camera_plane(double offset_m) {
   return c;
 }
 
-// Feeds tracked cycles (the sheet at `speed`) until `checks` more checks have finished (at most 10 s).
+// Feeds tracked cycles (the sheet at `speed`) until `checks` more checks have finished. Each
+// cycle waits for the check it started, so the next cycle takes it up and starts another: the
+// checks finish one a cycle whatever the machine's speed.
 void cycles_until_checked(cell::CalibrationMonitor& m, const tracking::SensorCloud& cloud, double speed, int checks) {
   const std::vector<std::string> names{"cam_a", "cam_b"};
   const int target = m.checks_finished() + checks;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (m.checks_finished() < target && std::chrono::steady_clock::now() < deadline) {
+  // One cycle to start the first check, then one per check; a few more would not help.
+  for (int cycle = 0; cycle < checks + 2 && m.checks_finished() < target; ++cycle) {
     m.after_tracked_cycle(cloud, names, speed);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    m.wait_for_running_check();
   }
   REQUIRE(m.checks_finished() >= target);
 }
@@ -72,7 +72,8 @@ TEST_CASE("calibration monitor: no check while the sheet moves", "[cell]") {
   for (int i = 0; i < 50; ++i) {
     m.after_tracked_cycle(knocked, names, 2 * cell::kStillSheetSpeedMS);
     m.after_tracked_cycle(knocked, names, std::numeric_limits<double>::infinity());  // speed unknown
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    // A check started by mistake would finish here and be counted by the next cycle.
+    CHECK_FALSE(m.wait_for_running_check());
   }
   CHECK(m.checks_finished() == 0);
   CHECK(m.problem().empty());

@@ -175,7 +175,7 @@ TEST_CASE("watchdog: SIM_FAULT twin diverge -> SAFE_HOLD only with fault injecti
 }
 
 TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps span the cycles, in lockstep they wait",
-          "[cell]") {
+          "[cell][real_time]") {
   auto slow = [](drivers::LcmBus& bus, bool active) {
     prepreg_lcm::sim_fault_t f{};
     f.utime = drivers::utime_now();
@@ -188,6 +188,11 @@ TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps sp
     DYNAMIC_SECTION((lockstep ? "lockstep" : "own pace")) {
       cell_test::RigFiles files = fast_files();
       files.config["cell"]["twin_lockstep"] = lockstep;
+      // The test tells a cycle that waited for the stalled step from one that did not by their
+      // times, so the stall (three periods) must be far longer than a cycle's own work (about
+      // 50 ms here, more on a busy machine): at 3 Hz it is 1 s, and a cycle that does not wait
+      // has half of it, 10x its nominal time. (Still a wall-clock test: [real_time].)
+      files.config["cell"]["cycle_hz"] = 3;
       cell_test::CellUnderTest t(files, true);
       REQUIRE(t.controller->startup() == CellState::kReady);
       REQUIRE(is(t.run(2), CellState::kRunning));
@@ -198,8 +203,10 @@ TEST_CASE("a twin slower than the cycle: cycles do not wait for it, its steps sp
       const int predicted_before = t.listener.count["SHEET_PREDICTED"];
       int cycles = 0, steps = 0, quick = 0;
       double covered_s = 0.0;
-      // Until four steps were taken up (the first may predate the fault), at most 80 cycles.
-      for (; cycles < (lockstep ? 6 : 80) && !(steps >= 4 && !lockstep); ++cycles) {
+      // Until four steps were taken up (the first may predate the fault). The cameras pace the
+      // cycles at 30 per second at most, so four 1 s steps take at most about 130 of them; 300
+      // only bounds the loop.
+      for (; cycles < (lockstep ? 6 : 300) && !(steps >= 4 && !lockstep); ++cycles) {
         const cell::CycleReport r = t.run(1);
         CHECK(r.state == CellState::kRunning);  // a slow twin is no failure
         CHECK(r.twin_ok);

@@ -18,21 +18,29 @@ TEST_CASE("start-up reaches READY, publishes the grasp plan and CELL_STATE", "[c
   CHECK(t.controller->last_track().status == tracking::TrackStatus::kOk);
 }
 
+// The start-up reason names the first camera (config order) or arm (hardware order) without a
+// frame or status when its time is up. The missing one is the first of each here, so it is named
+// however slowly the others deliver on a busy machine: the tests assert only that start-up waits
+// the time it is given, then fails naming it.
 TEST_CASE("start-up FAILED: a camera that never delivers is named", "[cell]") {
-  cell_test::CellUnderTest t(cell_test::default_files(), false,
-                             [](cell_test::CellUnderTest& c) { c.cameras->kill_from_start(1); });
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["cell"]["camera_startup_timeout_s"] = 1.5;
+  cell_test::CellUnderTest t(f, false, [](cell_test::CellUnderTest& c) { c.cameras->kill_from_start(0); });
+  const double start_s = cell::steady_s();
   REQUIRE(t.controller->startup() == CellState::kFailed);
-  CHECK_THAT(t.controller->reason(), Contains("camera cam_left: no frame within 1.5 s (test_sim: lost"));
+  CHECK(cell::steady_s() - start_s >= 1.5);
+  CHECK_THAT(t.controller->reason(), Contains("camera cam_front: no frame within 1.5 s (test_sim: lost"));
   t.controller->handle_bus(0);
   CHECK(t.listener.last_state.state == prepreg_lcm::cell_state_t::STATE_FAILED);
   CHECK(t.listener.last_state.reason == t.controller->reason());
 }
 
 TEST_CASE("start-up FAILED: an arm without IIWA_STATUS is named", "[cell]") {
-  cell_test::CellUnderTest t(cell_test::default_files(), false,
-                             [](cell_test::CellUnderTest& c) { c.responder->silence("CENTER", true); });
+  cell_test::RigFiles f = cell_test::default_files();
+  f.config["cell"]["arm_status_timeout_s"] = 0.5;
+  cell_test::CellUnderTest t(f, false, [](cell_test::CellUnderTest& c) { c.responder->silence("LEFT", true); });
   REQUIRE(t.controller->startup() == CellState::kFailed);
-  CHECK(t.controller->reason() == "arm CENTER: no IIWA_STATUS_CENTER within 0.5 s");
+  CHECK(t.controller->reason() == "arm LEFT: no IIWA_STATUS_LEFT within 0.5 s");
 }
 
 TEST_CASE("start-up FAILED: a bad material file is named with its field", "[cell]") {

@@ -9,17 +9,21 @@ monitor="$2"
 url='udpm://239.255.76.67:7667?ttl=0'
 out="$(mktemp)"
 trap 'rm -f "$out"' EXIT
-"$monitor" --lcm "$url" --max-seconds 6 --summary >"$out" 2>&1 &
+# The monitor runs until told to stop once the publisher has exited (loopback multicast has then
+# put every datagram in its socket, and it handles what arrived before it stops), not for a
+# fixed time a busy machine may not publish in; --max-seconds only ends a run that hangs.
+"$monitor" --lcm "$url" --max-seconds 120 --summary >"$out" 2>&1 &
 monitor_pid=$!
 # The monitor subscribes before it says it listens; publish only then (on a loaded machine its
 # start-up alone has taken over a second, and a fixed delay lost the first cycles).
-for _ in $(seq 100); do
+for _ in $(seq 200); do
   grep -q "^cell_monitor: listening on " "$out" && break
   kill -0 "$monitor_pid" 2>/dev/null || break
   sleep 0.1
 done
-grep -q "^cell_monitor: listening on " "$out" || { cat "$out"; echo "cell_monitor did not start listening within 10 s"; exit 1; }
+grep -q "^cell_monitor: listening on " "$out" || { cat "$out"; echo "cell_monitor did not start listening within 20 s"; exit 1; }
 "$publisher" --lcm "$url" --cycles 20 --hz 20 --delay-s 0.1
+kill -INT "$monitor_pid"
 wait "$monitor_pid"
 cat "$out"
 grep -q "^summary: 20 cycles (0..19), 0 missing" "$out"

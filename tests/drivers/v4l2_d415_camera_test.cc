@@ -173,9 +173,9 @@ TEST_CASE("v4l2 DQBUF retries EINTR and times out when no frame comes", "[v4l2]"
   CHECK(rig.io->calls[VIDIOC_DQBUF] >= before + 3);
   const auto start = std::chrono::steady_clock::now();
   CHECK(cam.read(f) == drivers::ReadStatus::kTimeout);
-  const auto waited = std::chrono::steady_clock::now() - start;
-  CHECK(waited >= std::chrono::milliseconds(95));
-  CHECK(waited < std::chrono::milliseconds(400));
+  // It waited its 100 ms read timeout (that it also returns soon after is the [real_time] case
+  // below: an upper bound on the wall clock has no place in a sanitizer run).
+  CHECK(std::chrono::steady_clock::now() - start >= std::chrono::milliseconds(95));
   CHECK(cam.health().timeouts == 1);
   // A frame that waited 600 ms (> stale_after 500 ms) somewhere before the read is stale.
   const auto d = depth_pattern(7);
@@ -183,6 +183,21 @@ TEST_CASE("v4l2 DQBUF retries EINTR and times out when no frame comes", "[v4l2]"
   CHECK(cam.read(f) == drivers::ReadStatus::kStale);
   CHECK(f.depth_mm == d);  // a stale frame is still returned
   CHECK(cam.health().stale == 1);
+}
+
+TEST_CASE("v4l2 read without a frame returns within 10x its 100 ms read timeout", "[v4l2][real_time]") {
+  Rig rig;
+  drivers::V4l2D415Camera cam(rig.io);
+  REQUIRE(cam.configure(rig.config).ok);
+  REQUIRE(cam.activate().ok);
+  drivers::DepthFrame f;
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(cam.read(f) == drivers::ReadStatus::kTimeout);
+  const auto waited = std::chrono::steady_clock::now() - start;
+  CHECK(waited >= std::chrono::milliseconds(95));
+  // Not a read that blocks (forever, or for a whole second timeout per retry): 10x the timeout,
+  // so that a busy machine, which may wake the reader late, does not fail it.
+  CHECK(waited < std::chrono::milliseconds(1000));
 }
 
 TEST_CASE("v4l2 device loss gives kLost, then reopens when the device is back", "[v4l2]") {
@@ -205,7 +220,9 @@ TEST_CASE("v4l2 device loss gives kLost, then reopens when the device is back", 
 
   rig.create_nodes();  // plugged back in
   drivers::ReadStatus s = drivers::ReadStatus::kLost;
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  // The first reopen is due 100 ms after the failed one (the backoff); 30 s only keeps a camera
+  // that never reopens from hanging the test.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (s != drivers::ReadStatus::kFrame && std::chrono::steady_clock::now() < give_up) {
     rig.publish();
     s = cam.read(f);

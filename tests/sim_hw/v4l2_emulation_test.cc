@@ -156,14 +156,14 @@ TEST_CASE("camera_probe reads emulated V4L2 nodes through the LD_PRELOAD shim, s
   std::atomic<bool> stop{false};
   std::uint64_t sequence = 0;
   bool unplugged = false;
-  // The producer: 30 fps; once the probe has written 5 frames, unplug the depth node for 300 ms
-  // and plug a fresh one in under the same name (the probe must reopen it).
+  // The producer: 30 fps; once the probe has written 5 frames (however long a busy machine takes
+  // to start it), unplug the depth node for 300 ms and plug a fresh one in under the same name
+  // (the probe must reopen it).
   auto producer = [&] {
     std::vector<std::uint8_t> yuyv;
-    const auto start = std::chrono::steady_clock::now();
-    auto next = start;
+    auto next = std::chrono::steady_clock::now();
     while (!stop) {
-      if (!unplugged && (depth_files(dir / "dump") >= 5 || std::chrono::steady_clock::now() - start > std::chrono::seconds(5))) {
+      if (!unplugged && depth_files(dir / "dump") >= 5) {
         depth.mark_dead();
         std::this_thread::sleep_for(std::chrono::milliseconds(300));
         depth = sim_hw::EmulatedV4l2Node::create(prefix + "_depth", V4L2_PIX_FMT_Z16, kW, kH, 30);
@@ -181,7 +181,9 @@ TEST_CASE("camera_probe reads emulated V4L2 nodes through the LD_PRELOAD shim, s
   };
   std::thread producer_thread(producer);
   std::string output;
-  const int status = run_probe({"--config", (dir / "cell.json").string(), "--frames", "40", "--max-seconds", "8",
+  // 40 frames at 30 fps and the unplug take about 2 s; 30 s is the probe's limit only so that
+  // one that never gets its frames ends.
+  const int status = run_probe({"--config", (dir / "cell.json").string(), "--frames", "40", "--max-seconds", "30",
                                 "--dump", (dir / "dump").string()},
                                "/dev/video0=" + prefix + "_depth,/dev/video2=" + prefix + "_color",
                                dir / "probe.txt", output);
@@ -245,11 +247,13 @@ TEST_CASE("d415_v4l2_emulator serves a camera to camera_probe through the shim",
   const pid_t emulator = spawn_with_shim(
       D415_V4L2_EMULATOR_EXE,
       {"--config", (dir / "source.json").string(), "--camera", "cam0", "--prefix", out, "--depth-device",
-       "/dev/video4", "--color-device", "/dev/video6", "--seconds", "20"},
+       "/dev/video4", "--color-device", "/dev/video6", "--seconds", "120"},
       "/dev/video0=" + src + "_depth,/dev/video2=" + src + "_color", dir / "emulator.txt");
   wait_for_node(out + "_color", emulator);
   std::string probe_output, emulator_output;
-  const int status = run_probe({"--config", (dir / "probe.json").string(), "--frames", "20", "--max-seconds", "6",
+  // 20 frames at 30 fps take under a second; the limits (the probe's 60 s, the emulator's 120 s,
+  // which is stopped once the probe is done) only end a run that gets no frames.
+  const int status = run_probe({"--config", (dir / "probe.json").string(), "--frames", "20", "--max-seconds", "60",
                                 "--dump", (dir / "dump").string()},
                                "/dev/video4=" + out + "_depth,/dev/video6=" + out + "_color", dir / "probe.txt",
                                probe_output);
@@ -296,11 +300,13 @@ TEST_CASE("a simulated D415 through the V4L2 emulation: its faults reach camera_
   const std::string prefix = "prepreg_simd415_" + std::to_string(::getpid());
   const pid_t emulator = spawn_with_shim(
       D415_V4L2_EMULATOR_EXE,
-      {"--config", (dir / "sim.json").string(), "--camera", "cam_front", "--prefix", prefix, "--seconds", "30"}, "",
+      {"--config", (dir / "sim.json").string(), "--camera", "cam_front", "--prefix", prefix, "--seconds", "120"}, "",
       dir / "emulator.txt");
   wait_for_node(prefix + "_color", emulator);
   std::string output, emulator_output;
-  const int status = run_probe({"--config", (dir / "v4l2.json").string(), "--frames", "100", "--max-seconds", "15"},
+  // 100 frames take 3.3 s at 30 fps, more where rendering falls behind; the limits (the probe's
+  // 60 s, the emulator's 120 s, which is stopped once the probe is done) only end a stuck run.
+  const int status = run_probe({"--config", (dir / "v4l2.json").string(), "--frames", "100", "--max-seconds", "60"},
                                "/dev/video0=" + prefix + "_depth,/dev/video2=" + prefix + "_color",
                                dir / "probe.txt", output);
   ::kill(emulator, SIGTERM);

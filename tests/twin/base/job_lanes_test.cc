@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -29,22 +30,28 @@ TEST_CASE("every job runs once, including those the lead adds while it runs", "[
   ThreadCount two(2);
   twin::JobQueue queue;
   std::mutex mutex;
+  std::condition_variable changed;
   std::vector<int> ran;
   std::set<int> lanes_used;
   const auto job = [&](int id) {
     return [&, id](int lane) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
       std::lock_guard<std::mutex> lock(mutex);
       ran.push_back(id);
       lanes_used.insert(lane);
+      changed.notify_all();
     };
   };
   for (int id = 0; id < 4; ++id) queue.push(job(id));
   twin::run_lanes(2, queue, [&] {
-    for (int id = 4; id < 8; ++id) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      queue.push(job(id));
+    // The lead holds lane 0 until lane 1 has run a queued job: that is what is tested, and a
+    // lane 1 that never ran one while the lead ran is the failure. How soon it does depends on
+    // when its thread gets a core, so the lead waits for it rather than for a time; 60 s only
+    // keeps a broken run_lanes from hanging the test.
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      changed.wait_for(lock, std::chrono::seconds(60), [&] { return lanes_used.count(1) == 1; });
     }
+    for (int id = 4; id < 8; ++id) queue.push(job(id));
   });
   std::sort(ran.begin(), ran.end());
   CHECK(ran == std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7});
@@ -116,10 +123,23 @@ TEST_CASE("the first exception is rethrown after the lanes stop, and later jobs 
     ThreadCount count(threads);
     twin::JobQueue queue;
     std::atomic<int> after{0};
-    queue.push([](int) { throw std::runtime_error("job failed"); });
+    // With two lanes the lead pushes its job once lane 1 has thrown (waiting for that, not for a
+    // time), plus 50 ms for lane 1 to record the exception: only a lane 1 stopped for longer
+    // between its throw and its catch could let lane 0 run the job. With one lane the lead
+    // runs first and the failing job after it, in order.
+    std::atomic<bool> thrown{false};
+    queue.push([&](int) {
+      thrown = true;
+      throw std::runtime_error("job failed");
+    });
     CHECK_THROWS_WITH(twin::run_lanes(2, queue,
                                       [&] {
-                                        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                                        if (threads == 2) {
+                                          for (int i = 0; i < 60000 && !thrown; ++i) {
+                                            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                                          }
+                                          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                                        }
                                         queue.push([&](int) { ++after; });
                                       }),
                       "job failed");
