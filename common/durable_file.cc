@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 #include <iomanip>
 #include <limits>
 #include <locale>
@@ -53,10 +52,6 @@ class DescriptorBuffer : public std::streambuf {
   int error_ = 0;
 };
 
-std::runtime_error failure(const fs::path& path, const std::string& what, int error) {
-  return std::runtime_error(path.string() + ": " + what + ": " + std::strerror(error));
-}
-
 fs::path directory_of(const fs::path& path) {
   const fs::path parent = path.parent_path();
   return parent.empty() ? fs::path(".") : parent;
@@ -68,7 +63,10 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   fs::path tmp = path;
   tmp += ".tmp";
   FileDescriptor fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666));
-  if (!fd) throw failure(path, "cannot open " + tmp.string() + " for writing", errno);
+  if (!fd) {
+    const int error = errno;  // before building the message can change it
+    throw file_error(path, "cannot open " + tmp.string() + " for writing", error);
+  }
   std::error_code ignored;
   // Until the rename the old file is untouched; every failure below only removes the temporary.
   auto give_up = [&] { fd.close(); fs::remove(tmp, ignored); };
@@ -79,7 +77,7 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
     out << std::setprecision(std::numeric_limits<double>::max_digits10);
     body(out);
     out.flush();
-    if (buffer.error() != 0) throw failure(path, "writing " + tmp.string() + " failed", buffer.error());
+    if (buffer.error() != 0) throw file_error(path, "writing " + tmp.string() + " failed", buffer.error());
     if (!out) throw std::runtime_error(path.string() + ": writing " + tmp.string() + " failed");
   } catch (...) {
     give_up();
@@ -88,16 +86,16 @@ void write_file_atomically(const fs::path& path, const std::function<void(std::o
   if (::fsync(fd.get()) != 0) {
     const int error = errno;
     give_up();
-    throw failure(path, "cannot flush " + tmp.string() + " to the disk", error);
+    throw file_error(path, "cannot flush " + tmp.string() + " to the disk", error);
   }
   if (const int error = fd.close(); error != 0) {
     fs::remove(tmp, ignored);
-    throw failure(path, "closing " + tmp.string() + " failed", error);
+    throw file_error(path, "closing " + tmp.string() + " failed", error);
   }
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
     const int error = errno;
     fs::remove(tmp, ignored);
-    throw failure(path, "cannot rename " + tmp.string() + " over it", error);
+    throw file_error(path, "cannot rename " + tmp.string() + " over it", error);
   }
   sync_directory(directory_of(path));
 }
@@ -108,8 +106,14 @@ void write_file_atomically(const fs::path& path, std::string_view bytes) {
 
 void sync_directory(const fs::path& dir) {
   FileDescriptor fd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-  if (!fd) throw failure(dir, "cannot open the directory to flush it", errno);
-  if (::fsync(fd.get()) != 0) throw failure(dir, "cannot flush the directory to the disk", errno);
+  if (!fd) {
+    const int error = errno;
+    throw file_error(dir, "cannot open the directory to flush it", error);
+  }
+  if (::fsync(fd.get()) != 0) {
+    const int error = errno;
+    throw file_error(dir, "cannot flush the directory to the disk", error);
+  }
 }
 
 void create_directories_durably(const fs::path& dir) {

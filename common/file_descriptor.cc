@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstring>
 
 namespace prepreg {
 
@@ -33,6 +34,10 @@ int write_all(int fd, std::string_view bytes) {
     bytes.remove_prefix(static_cast<std::size_t>(n));
   }
   return 0;
+}
+
+std::runtime_error file_error(const std::filesystem::path& path, const std::string& what, int error) {
+  return std::runtime_error(path.string() + ": " + what + ": " + std::strerror(error));
 }
 
 }  // namespace prepreg

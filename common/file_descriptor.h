@@ -1,7 +1,10 @@
 #pragma once
-// A POSIX file descriptor that closes itself, and a write that does not stop short: the two
-// pieces durable_file.cc and append_journal.cc both need.
+// A POSIX file descriptor that closes itself, a write that does not stop short, and the error
+// naming a file and the system's reason: what durable_file.cc and append_journal.cc both need.
 
+#include <filesystem>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 
 namespace prepreg {
@@ -27,5 +30,8 @@ class FileDescriptor {
 
 // Writes every byte, retrying after signals and short writes; returns errno on failure, else 0.
 int write_all(int fd, std::string_view bytes);
+
+// "<path>: <what>: <strerror(error)>".
+std::runtime_error file_error(const std::filesystem::path& path, const std::string& what, int error);
 
 }  // namespace prepreg
