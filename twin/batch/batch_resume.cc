@@ -13,7 +13,9 @@ namespace fs = std::filesystem;
 std::optional<BatchRow> finished_row(const fs::path& dir, const BatchMaterial& material) {
   const fs::path file = dir / "done.json";
   std::error_code ec;
-  if (!fs::exists(file, ec)) return std::nullopt;
+  const bool exists = fs::exists(file, ec);
+  if (ec) throw std::runtime_error(file.string() + ": cannot tell whether the material is finished: " + ec.message());
+  if (!exists) return std::nullopt;
   BatchRow row;
   try {
     const nlohmann::json j = JsonField::parse_file(file.string());

@@ -121,7 +121,7 @@ TEST_CASE("twin batch reports a corrupt done.json as the material's failure and 
 TEST_CASE("an unreadable running.json is named in the note", "[batch]") {
   testing_support::TempDir dir("batch_resume_running");
   CHECK(twin::batch::interrupted_run(dir / "x").empty());
-  testing_support::write_file(dir / "running.json", R"({"rank": "zero"})");
+  testing_support::write_file(dir / "running.json", R"({"rank": "zero", "pid": 1, "host": "h", "started": "s"})");
   CHECK_THAT(twin::batch::interrupted_run(dir.str()),
              Catch::Contains((dir / "running.json").string()) && Catch::Contains("'rank' must be an integer"));
 }
