@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "drivers/session_recorder.h"
-#include "twin/base/atomic_file.h"
 #include "sim_hw/sheet_scene.h"
 #include "sim_hw/simulated_d415.h"
+#include "twin/base/atomic_file.h"
 
 namespace cell_bench {
 
