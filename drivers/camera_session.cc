@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "common/durable_file.h"
 #include "drivers/json_field.h"
 
 namespace drivers {
@@ -86,16 +87,13 @@ std::string write_session(const std::filesystem::path& dir, const std::vector<Se
                               {"depth_to_color", pose_json(c.depth_to_color)},
                               {"camera_to_cell", pose_json(c.camera_to_cell)}});
   }
-  // Write beside and rename, so a reader never sees a half-written file.
-  const std::filesystem::path file = dir / "session.json", tmp = dir / "session.json.tmp";
-  {
-    std::ofstream out(tmp);
-    out << doc.dump(2) << '\n';
-    if (!out) return fmt::format("{}: write failed", tmp.string());
+  // Written beside, flushed and renamed: a reader or a crash never finds a half-written file.
+  const std::filesystem::path file = dir / "session.json";
+  try {
+    prepreg::write_file_atomically(file, doc.dump(2) + "\n");
+  } catch (const std::exception& e) {
+    return e.what();
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) return fmt::format("{}: cannot rename into place: {}", file.string(), ec.message());
   return "";
 }
 
@@ -146,6 +144,8 @@ std::vector<SessionIndexEntry> read_session_index(const std::filesystem::path& i
     SessionIndexEntry e;
     std::string extra;
     if (!(s >> e.sequence >> e.device_time_us >> e.host_time_us >> e.depth_file >> e.color_file) || (s >> extra)) {
+      // A last line without its newline is the record a crash tore while the recorder wrote it.
+      if (in.eof()) break;
       throw std::runtime_error(fmt::format(
           "{}:{}: expected 'sequence device_time_us host_time_us depth_file color_file', got '{}'",
           index_file.string(), number, line));

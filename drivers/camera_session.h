@@ -13,7 +13,9 @@
 //                               "camera_to_cell": [16 numbers, 4x4 row-major, m]}, ...]}
 //   <session>/<camera>/index.txt   '#' comment lines, then one line per frame:
 //                             sequence device_time_us host_time_us depth_file color_file
-//                             (file names relative to the camera folder; color_file "-" = none)
+//                             (file names relative to the camera folder; color_file "-" = none;
+//                             a last line without its newline that does not read as a frame is
+//                             skipped: a crash tore it while it was being written)
 //   <session>/<camera>/depth_<n>.pgm   16-bit binary PGM, raw depth counts (0 = invalid)
 //   <session>/<camera>/color_<n>.ppm   8-bit binary PPM, RGB
 //

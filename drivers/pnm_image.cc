@@ -6,17 +6,23 @@
 
 #include <fmt/format.h>
 
+#include "common/durable_file.h"
+
 namespace drivers {
 namespace {
 
+// Written beside, flushed and renamed (common/durable_file.h): after a crash a frame file is whole
+// or absent, and the session index names a frame only once it is on the disk.
 std::string write_pnm(const std::filesystem::path& path, const char* magic, int width, int height, int maxval,
                       const char* data, std::size_t bytes) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) return fmt::format("{}: cannot open for writing", path.string());
-  out << magic << '\n' << width << ' ' << height << '\n' << maxval << '\n';
-  out.write(data, std::streamsize(bytes));
-  out.close();
-  if (!out) return fmt::format("{}: write failed (disk full?)", path.string());
+  try {
+    prepreg::write_file_atomically(path, [&](std::ostream& out) {
+      out << magic << '\n' << width << ' ' << height << '\n' << maxval << '\n';
+      out.write(data, std::streamsize(bytes));
+    });
+  } catch (const std::exception& e) {
+    return e.what();
+  }
   return "";
 }
 

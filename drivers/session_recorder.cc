@@ -4,14 +4,17 @@
 
 #include <fmt/format.h>
 
+#include "common/durable_file.h"
 #include "drivers/pnm_image.h"
 
 namespace drivers {
 
 SessionRecorder::SessionRecorder(std::filesystem::path dir) : dir_(std::move(dir)) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot create session directory: {}", dir_.string(), ec.message()));
+  try {
+    prepreg::create_directories_durably(dir_);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("cannot create the session directory: {}", e.what()));
+  }
   if (std::filesystem::exists(dir_ / "session.json")) {
     throw std::runtime_error(fmt::format("{}: already holds a recorded session (session.json); choose a new directory",
                                          dir_.string()));
@@ -23,9 +26,11 @@ void SessionRecorder::describe(const CameraConfig& config) { described_[config.n
 DriverResult SessionRecorder::start_track(const DepthFrame& f) {
   if (const std::string why = check_camera_name(f.camera); !why.empty()) return DriverResult::failure(why);
   const std::filesystem::path folder = dir_ / f.camera;
-  std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
-  if (ec) return DriverResult::failure(fmt::format("{}: cannot create: {}", folder.string(), ec.message()));
+  try {
+    prepreg::create_directories_durably(folder);
+  } catch (const std::exception& e) {
+    return DriverResult::failure(e.what());
+  }
   Track t;
   SessionCamera& c = t.camera;
   c.name = f.camera;
@@ -44,10 +49,13 @@ DriverResult SessionRecorder::start_track(const DepthFrame& f) {
     if (same_size(it->second.color_mode, f.color_intrinsics)) c.color_mode.fps = it->second.color_mode.fps;
     c.depth_unit_mm = it->second.depth_unit_mm;
   }
-  t.index = std::make_unique<std::ofstream>(dir_ / c.index);
-  *t.index << "# " << kSessionFormat << " v" << kSessionVersion
-           << " index: sequence device_time_us host_time_us depth_file color_file\n";
-  if (!*t.index) return DriverResult::failure(fmt::format("{}: cannot write", (dir_ / c.index).string()));
+  try {
+    t.index = std::make_unique<prepreg::AppendJournal>(dir_ / c.index);
+    t.index->append(fmt::format("# {} v{} index: sequence device_time_us host_time_us depth_file color_file\n",
+                                kSessionFormat, kSessionVersion));
+  } catch (const std::exception& e) {
+    return DriverResult::failure(e.what());
+  }
   tracks_.emplace(f.camera, std::move(t));
   order_.push_back(f.camera);
   std::vector<SessionCamera> cams;
@@ -81,9 +89,7 @@ DriverResult SessionRecorder::append(const DepthFrame& f) {
       err = write_ppm8(folder / e.color_file, c.color_intrinsics.width, c.color_intrinsics.height, f.rgb);
     }
     if (!err.empty()) return DriverResult::failure(err);
-    *t.index << format_index_line(e) << '\n';
-    t.index->flush();
-    if (!*t.index) return DriverResult::failure(fmt::format("{}: write failed", (dir_ / c.index).string()));
+    t.index->append(format_index_line(e) + '\n');  // throws naming the index; reported below
     ++t.frames;
     return DriverResult::success();
   } catch (const std::exception& e) {  // allocation or filesystem errors: report, do not throw

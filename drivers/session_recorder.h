@@ -1,16 +1,18 @@
 #pragma once
 // Records frames from any DepthCamera into a session directory (format: camera_session.h).
-// Frame files and index lines are written as frames arrive (the index is flushed per frame), and
-// session.json is rewritten whenever a camera is added, so a recording cut short by a crash is
-// still readable up to its last complete frame.
+// Frame files and index lines are written as frames arrive, and session.json is rewritten whenever
+// a camera is added, each durably (common/durable_file.h, common/append_journal.h): a frame file is
+// on the disk before its index line is written and flushed, so a recording cut short by a crash
+// or a power cut is still readable up to its last complete frame. That costs a few fsyncs per
+// frame; on a slow disk the recorder records fewer frames than the camera delivers.
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 
+#include "common/append_journal.h"
 #include "drivers/camera_session.h"
 #include "drivers/depth_camera.h"
 
@@ -37,7 +39,7 @@ class SessionRecorder {
  private:
   struct Track {
     SessionCamera camera;
-    std::unique_ptr<std::ofstream> index;
+    std::unique_ptr<prepreg::AppendJournal> index;
     std::uint64_t frames = 0;
   };
   DriverResult start_track(const DepthFrame& frame);

@@ -316,7 +316,7 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
                            lab.scans_m[s]);
     }
   }
-  std::filesystem::create_directories(truth_directory);
+  twin::create_directories_durably(truth_directory);
   twin::write_file_atomically(std::filesystem::path(truth_directory) / "material.json",
                               [&](std::ostream& out) { out << twin::material_to_json(lab.truth).dump(2) << "\n"; });
   for (std::size_t s = 0; s < lab.true_markers_m.size(); ++s) {

@@ -9,10 +9,11 @@
 #include <pcl/surface/gp3.h>
 
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "common/durable_file.h"
 
 namespace tracking {
 
@@ -69,18 +70,14 @@ SurfaceMesh reconstruct_surface(const std::vector<Eigen::Vector3f>& points_m,
 }
 
 void write_ply(const std::string& path, const SurfaceMesh& mesh) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", path));
-  out << "ply\nformat ascii 1.0\ncomment units: metres, cell frame\n"
-      << "element vertex " << mesh.vertices_m.size() << "\nproperty float x\nproperty float y\n"
-      << "property float z\nelement face " << mesh.triangles.size()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const Vec3& v : mesh.vertices_m)
-    out << fmt::format("{:.6f} {:.6f} {:.6f}\n", v.x(), v.y(), v.z());
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-  out.flush();
-  if (!out) throw std::runtime_error(fmt::format("{}: write failed", path));
+  prepreg::write_file_atomically(path, [&](std::ostream& out) {
+    out << "ply\nformat ascii 1.0\ncomment units: metres, cell frame\n"
+        << "element vertex " << mesh.vertices_m.size() << "\nproperty float x\nproperty float y\n"
+        << "property float z\nelement face " << mesh.triangles.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& v : mesh.vertices_m) out << fmt::format("{:.6f} {:.6f} {:.6f}\n", v.x(), v.y(), v.z());
+    for (const Eigen::Vector3i& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  });
 }
 
 }  // namespace tracking

@@ -24,8 +24,8 @@ struct ReconstructionOptions {
 SurfaceMesh reconstruct_surface(const std::vector<Eigen::Vector3f>& points_m,
                                 const ReconstructionOptions& options);
 
-// ASCII PLY (vertices in m, faces). Throws std::runtime_error naming the path when it cannot
-// be written.
+// ASCII PLY (vertices in m, faces), written durably (common/durable_file.h). Throws
+// std::runtime_error naming the path when it cannot be written.
 void write_ply(const std::string& path, const SurfaceMesh& mesh);
 
 }  // namespace tracking

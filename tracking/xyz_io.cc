@@ -3,14 +3,14 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
-#include <system_error>
 
 #include <fmt/format.h>
+
+#include "common/durable_file.h"
 
 namespace tracking {
 namespace {
@@ -79,7 +79,6 @@ std::vector<Vec3> read_xyz_file(const std::string& path, bool allow_nan) {
 
 void write_xyz_file(const std::string& path, const std::vector<Vec3>& points,
                     const std::string& header) {
-  namespace fs = std::filesystem;
   std::string text;
   if (!header.empty()) {
     std::istringstream lines(header);
@@ -96,26 +95,7 @@ void write_xyz_file(const std::string& path, const std::vector<Vec3>& points,
     }
   }
 
-  const fs::path target(path);
-  fs::path tmp = target;
-  tmp += ".tmp";
-  std::error_code ignored;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot open " + tmp.string() + " for writing");
-    out << text;
-    out.close();
-    if (!out) {
-      fs::remove(tmp, ignored);
-      throw std::runtime_error(path + ": writing " + tmp.string() + " failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(path + ": cannot rename " + tmp.string() + ": " + ec.message());
-  }
+  prepreg::write_file_atomically(path, text);
 }
 
 }  // namespace tracking

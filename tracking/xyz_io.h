@@ -23,9 +23,9 @@ std::vector<Vec3> read_xyz_file(const std::string& path, bool allow_nan);
 
 // Writes one line per point ("nan nan nan" for unknown points) with enough digits to read back
 // the same doubles, after an optional '#' comment header (one comment line per '\n'-separated
-// line of `header`). The text goes to "<path>.tmp" first and is renamed over `path`, so a
-// reader never sees a half-written file and an existing file survives a failed write. Throws
-// std::runtime_error naming the path.
+// line of `header`). Written durably (common/durable_file.h): a reader or a crash never finds a
+// half-written file and an existing file survives a failed write. Throws std::runtime_error
+// naming the path.
 void write_xyz_file(const std::string& path, const std::vector<Vec3>& points,
                     const std::string& header = "");
 

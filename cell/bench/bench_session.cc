@@ -9,6 +9,7 @@
 #include "drivers/session_recorder.h"
 #include "sim_hw/sheet_scene.h"
 #include "sim_hw/simulated_d415.h"
+#include "twin/base/atomic_file.h"
 
 namespace cell_bench {
 
@@ -25,7 +26,12 @@ void record_session(const sim_hw::WorldConfig& world, const sim_hw::TrueSheet& s
   auto scene = std::make_shared<sim_hw::RenderScene>(world.static_scene);
   scene->meshes.push_back(sim_hw::sheet_scene_mesh(sheet.mesh(), sheet.positions()));
   const std::shared_ptr<const sim_hw::RenderScene> still = scene;
-  drivers::SessionRecorder recorder(dir);
+  // Recorded beside and renamed into place once complete: has_session never takes a recording cut
+  // short (killed, crashed) for a whole one.
+  std::filesystem::path partial = dir;
+  partial += ".partial";
+  std::filesystem::remove_all(partial);
+  drivers::SessionRecorder recorder(partial);
   const auto frames = static_cast<std::uint64_t>(std::max(1.0, std::round(seconds * kCameraFps)));
   for (const sim_hw::WorldCamera& cam : world.cameras) {
     sim_hw::SimulatedD415Options options;
@@ -45,6 +51,8 @@ void record_session(const sim_hw::WorldConfig& world, const sim_hw::TrueSheet& s
       throw std::runtime_error("recording camera " + cam.config.name + ": " + std::to_string(got) + " of " +
                                std::to_string(frames) + " frames recorded" + (error.empty() ? "" : ": " + error));
   }
+  std::filesystem::rename(partial, dir);
+  twin::sync_directory(dir.parent_path().empty() ? std::filesystem::path(".") : dir.parent_path());
 }
 
 cell::CellConfig bench_cell_config(const std::string& cell_config_path, const std::filesystem::path& session,
@@ -70,9 +78,9 @@ cell::CellConfig bench_cell_config(const std::string& cell_config_path, const st
     c["depth_mode"]["fps"] = kCameraFps;
     c["color_mode"]["fps"] = kCameraFps;
   }
-  std::filesystem::create_directories(work_dir);
+  twin::create_directories_durably(work_dir);
   const std::filesystem::path out = work_dir / "bench_cell.json";
-  std::ofstream(out) << j.dump(2) << "\n";
+  twin::write_file_atomically(out, [&](std::ostream& o) { o << j.dump(2) << "\n"; });
   return cell::read_cell_config(out.string());
 }
 

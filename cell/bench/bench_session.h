@@ -21,7 +21,8 @@ sim_hw::WorldConfig bench_world_config(const std::string& cell_config_path, cons
 bool has_session(const std::filesystem::path& dir);
 
 // Records `seconds` of every world camera (848x480 @ kCameraFps) looking at `sheet` as it hangs
-// into the session directory `dir` (must not hold a session yet). Throws std::runtime_error
+// into the session directory `dir` (must not hold a session yet; it is recorded into
+// "<dir>.partial" and renamed to `dir` once complete). Throws std::runtime_error
 // naming the camera when a camera fails or records too few frames.
 void record_session(const sim_hw::WorldConfig& world, const sim_hw::TrueSheet& sheet,
                     const std::filesystem::path& dir, double seconds);

@@ -60,9 +60,7 @@ twin::Trial write_cell_trial(const std::string& directory, const std::vector<Set
                              const twin::Material& material) {
   const fs::path dir(directory);
   const twin::Trial trial = cell_trial(states, mesh, plan, material, (fs::absolute(dir) / "sheet.obj").string());
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(directory + ": cannot create directory: " + ec.message());
+  twin::create_directories_durably(dir);
   twin::SurfaceMesh flat;
   for (const twin::Vec2& uv : mesh.rest_uv) flat.positions.emplace_back(uv.x(), uv.y(), 0.0);
   flat.triangles = mesh.triangles;
@@ -73,7 +71,7 @@ twin::Trial write_cell_trial(const std::string& directory, const std::vector<Set
     // Fake hardware: the true sheet beside what was seen (not part of the trial format).
     std::string truth_file;
     if (!s.truth_m.empty()) {
-      fs::create_directories(dir / "truth", ec);
+      twin::create_directories_durably(dir / "truth");
       truth_file = "truth/" + trial.stages[k].id + ".xyz";
       twin::write_xyz_file((dir / truth_file).string(), s.truth_m);
     }

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     if (!lcm_url.empty()) config.cell.lcm_url = lcm_url;
     if (!material_path.empty()) config.material_file = material_path;
     if (!no_experiment && !config.experiment_file.empty()) experiment = cell::read_experiment(config.experiment_file);
-    if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+    if (!out_dir.empty()) twin::create_directories_durably(out_dir);
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_controller: config error: {}\n", e.what());
     return 1;

@@ -27,6 +27,7 @@
 #include "sim_hw/simulated_cameras.h"
 #include "tracking/sheet_tracker.h"
 #include "tracking/tracker_config_json.h"
+#include "twin/base/atomic_file.h"
 #include "twin/mesh/mesh_io.h"
 
 namespace {
@@ -95,7 +96,7 @@ int main(int argc, char** argv) {
       if (auto r = c.camera->activate(); !r.ok) throw std::runtime_error(r.message);
       cameras.push_back(std::move(c));
     }
-    if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+    if (!out_dir.empty()) twin::create_directories_durably(out_dir);
     if (!record_dir.empty()) {
       recorder.emplace(record_dir);
       for (const auto& c : cameras) recorder->describe(c.config);

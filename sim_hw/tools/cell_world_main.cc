@@ -18,9 +18,9 @@
 #include <cstdlib>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <unistd.h>
 
+#include "common/durable_file.h"
 #include "sim_hw/cell_world.h"
 
 namespace {
@@ -35,14 +35,9 @@ std::string shim_path() {
   return (exe.parent_path() / "libprepreg_v4l2_shim.so").string();
 }
 
+// Written durably (common/durable_file.h): a launcher waiting for the file never sees half of it.
 void write_emulation_env(const std::string& path, const std::string& spec) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << "PREPREG_V4L2_EMULATION=" << spec << "\n" << "LD_PRELOAD=" << shim_path() << "\n";
-    if (!out) throw std::runtime_error(path + ": cannot write the emulation environment");
-  }
-  std::filesystem::rename(tmp, path);  // a launcher waiting for the file never sees half of it
+  prepreg::write_file_atomically(path, "PREPREG_V4L2_EMULATION=" + spec + "\n" + "LD_PRELOAD=" + shim_path() + "\n");
 }
 
 std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {

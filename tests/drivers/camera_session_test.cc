@@ -187,6 +187,14 @@ TEST_CASE("session: bad recordings give errors naming the file and field or line
   std::ofstream(index) << text << "7 123 oops depth_x.pgm -\n";
   CHECK_THAT(configure_error(dir.string() + "#cam_a"),
              Catch::Contains("index.txt:5: expected 'sequence device_time_us"));
+  // A last line torn by a crash (no newline, not a whole record) is skipped; one that reads as a
+  // frame is not, even without its newline.
+  std::ofstream(index) << text;
+  const std::size_t recorded = drivers::read_session_index(index).size();
+  std::ofstream(index) << text << "7 123 45";
+  CHECK(drivers::read_session_index(index).size() == recorded);
+  std::ofstream(index) << text << "9 1 2 depth_000099.pgm -";
+  CHECK(drivers::read_session_index(index).size() == recorded + 1);
   std::ofstream(index) << text << "9 1 2 depth_000099.pgm -\n";
   CHECK_THAT(configure_error(dir.string() + "#cam_a"),
              Catch::Contains("missing file") && Catch::Contains("depth_000099.pgm"));

@@ -197,6 +197,24 @@ def main():
     seed("mesh", "ply_binary_big", ply_binary("big"), b"\2")
     seed("xyz", "markers", "# x y z\n0.1 0.2 1.0\nnan nan nan\n-0.1 2e-1 0.95\n", b"\1")
     seed("xyz", "scan", "0.1 0.2 1.0\n0.11 0.2 1.0\n0.1 0.21 1.01\n", b"\2")
+    # Batch manifests with their trial directories (a file in each) and start material, and what a
+    # rerun reads back: done.json (fingerprint "fuzz", as the harness sets it) and running.json.
+    trial_dirs = [("a_train/trial.json", "{}"), ("a_test/trial.json", "{}"), ("b_train/trial.json", "{}")]
+    seed("batch_manifest", "two_materials", files(("manifest.json", json.dumps({
+        "materials": [{"name": "lot_a", "train": ["a_train"], "test": ["a_test"], "material": "start.json"},
+                      {"name": "lot_b", "train": ["b_train", "a_train"], "test": ["a_test"]}],
+        "diagnose": {"triangles": 300, "path_triangles": 0, "refits": 3, "effects": "orthotropic_stiffness",
+                     "noise_mm": 0.3, "optimizer": "lm", "discretisation_check": False}}, indent=1)),
+        *trial_dirs, ("start.json", text("twin/materials/composite_prepreg.json"))))
+    row = {"name": "lot_a", "status": "done", "verdict": "effect", "effect": "orthotropic_stiffness",
+           "held_out_before_mm": 0.9, "held_out_after_mm": 0.4, "noise_sigma_mm": 0.3, "seconds": 26.0,
+           "error": "", "note": ""}
+    seed("batch_manifest", "resume", files(("manifest.json", json.dumps({
+        "materials": [{"name": "lot_a", "train": ["a_train"], "test": ["a_test"]}]}, indent=1)),
+        *trial_dirs[:2], ("lot_a/done.json", json.dumps({"fingerprint": "fuzz", "row": row}, indent=2)),
+        ("lot_a/material.json", "{}"),
+        ("lot_a/running.json", json.dumps({"rank": 1, "pid": 4242, "host": "cellpc",
+                                           "started": "2026-01-01T08:00:00Z"}, indent=2))))
     # Recorded sessions: depth only and with colour (first byte: replay options).
     seed("session", "depth_only", session(False), b"\0")
     seed("session", "color_loop", session(True), b"\3")

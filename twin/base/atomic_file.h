@@ -1,16 +1,15 @@
 #pragma once
-// Every file the twin writes (meshes, material files, summaries) goes through here: the body is
-// written to "<path>.tmp" and renamed over `path`, so a reader never sees a half-written file
-// and an existing file survives a failed write. Throws std::runtime_error naming the path.
+// Every file the twin writes (meshes, material files, trials, reports, summaries, batch state)
+// goes through the cell's shared durable writer (common/durable_file.h): written beside, flushed
+// to the disk, renamed over the path, the directory flushed; a failed write leaves an existing
+// file intact. Throws std::runtime_error naming the path.
 
-#include <filesystem>
-#include <functional>
-#include <ostream>
+#include "common/durable_file.h"
 
 namespace twin {
 
-// The stream is in the classic locale with max_digits10 precision for doubles.
-void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& body);
+using prepreg::create_directories_durably;
+using prepreg::sync_directory;
+using prepreg::write_file_atomically;
 
 }  // namespace twin

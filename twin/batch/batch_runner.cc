@@ -6,13 +6,14 @@
 #include <cstdint>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include "twin/base/atomic_file.h"
+#include "twin/base/json_field.h"
+#include "twin/batch/batch_resume.h"
 #include "twin/distributed/byte_codec.h"
 #include "twin/model/material.h"
 
@@ -20,22 +21,6 @@ namespace twin::batch {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The done.json of an earlier run for this very entry, if there is one.
-std::optional<BatchRow> finished_row(const fs::path& dir, const BatchMaterial& material) {
-  std::ifstream in(dir / "done.json");
-  if (!in) return std::nullopt;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(in);
-    if (j.at("fingerprint").get<std::string>() != material.fingerprint) return std::nullopt;
-    if (!fs::is_regular_file(dir / "material.json")) return std::nullopt;
-    BatchRow row = row_from_json(j.at("row"));
-    row.status = "already done";
-    return row;
-  } catch (const std::exception&) {
-    return std::nullopt;  // unreadable: redo it
-  }
-}
 
 // OUT/NAME/running.json: who is diagnosing the material, while it runs.
 void write_running_marker(const fs::path& dir, int rank) {
@@ -46,20 +31,6 @@ void write_running_marker(const fs::path& dir, int rank) {
                                  {"host", host},
                                  {"started", fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::time(nullptr)))}};
   write_file_atomically(dir / "running.json", [&](std::ostream& o) { o << marker.dump(2) << "\n"; });
-}
-
-// What a running.json left by an earlier run says, or "" when there is none.
-std::string interrupted_run(const fs::path& dir) {
-  std::ifstream in(dir / "running.json");
-  if (!in) return "";
-  try {
-    const nlohmann::json j = nlohmann::json::parse(in);
-    return fmt::format("an earlier run stopped while diagnosing it (rank {}, pid {} on {}, started {}); diagnosed again",
-                       j.at("rank").get<int>(), j.at("pid").get<long>(), j.at("host").get<std::string>(),
-                       j.at("started").get<std::string>());
-  } catch (const std::exception&) {
-    return "an earlier run stopped while diagnosing it (its running.json is unreadable); diagnosed again";
-  }
 }
 
 // `team`: the ranks the diagnosis runs on together (null: this process alone); its rank 0
@@ -111,20 +82,22 @@ nlohmann::json row_json(const BatchRow& r) {
           {"note", r.note}};
 }
 
-BatchRow row_from_json(const nlohmann::json& j) {
+BatchRow row_from_field(const JsonField& f) {
   BatchRow r;
-  r.name = j.at("name").get<std::string>();
-  r.status = j.at("status").get<std::string>();
-  r.verdict = j.at("verdict").get<std::string>();
-  r.effect = j.at("effect").get<std::string>();
-  r.held_out_before_mm = j.at("held_out_before_mm").get<double>();
-  r.held_out_after_mm = j.at("held_out_after_mm").get<double>();
-  r.noise_sigma_mm = j.at("noise_sigma_mm").get<double>();
-  r.seconds = j.at("seconds").get<double>();
-  r.error = j.at("error").get<std::string>();
-  r.note = j.value("note", "");  // absent in the done.json of runs before it existed
+  r.name = f["name"].string();
+  r.status = f["status"].string();
+  r.verdict = f["verdict"].string();
+  r.effect = f["effect"].string();
+  r.held_out_before_mm = f["held_out_before_mm"].number("mm");
+  r.held_out_after_mm = f["held_out_after_mm"].number("mm");
+  r.noise_sigma_mm = f["noise_sigma_mm"].number("mm");
+  r.seconds = f["seconds"].number("s");
+  r.error = f["error"].string();
+  if (auto note = f.optional("note")) r.note = note->string();  // absent in the done.json of runs before it existed
   return r;
 }
+
+BatchRow row_from_json(const nlohmann::json& j) { return row_from_field(JsonField(j, "a batch row")); }
 
 namespace {
 
@@ -159,7 +132,7 @@ BatchRow run_material(const BatchManifest& manifest, std::size_t i, const BatchO
     if (options.progress) options.progress(fmt::format("{} ({}/{}): already done", material.name, i + 1, count));
     return *row;
   }
-  fs::create_directories(dir);
+  create_directories_durably(dir);
   const std::string interrupted = interrupted_run(dir);
   // An earlier run's files must not pass for this one's (a material.json beside a failure).
   for (const char* stale : {"done.json", "failed.json", "material.json"}) fs::remove(dir / stale);
@@ -192,7 +165,7 @@ BatchResult run_batch(const BatchManifest& manifest, const BatchOptions& options
   const fs::path out(options.out);
   // On every rank: an unwritable OUT then stops them all here alike, before the farm, rather than
   // rank 0 alone while the others wait for work.
-  fs::create_directories(out);
+  create_directories_durably(out);
   const int rank = ranks.rank();
   // Teams of ranks_per_material ranks: materials go to the teams' leaders, each material's
   // refit searches over its team.

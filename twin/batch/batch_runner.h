@@ -14,7 +14,8 @@
 //                        material's row says so when it is diagnosed again.
 //   OUT/summary.json, OUT/summary.md   one row per material, in manifest order.
 // Resuming: a material whose done.json records the same manifest entry (trials, start material,
-// diagnose options) is not redone; its row is read back. Anything else (never run, interrupted,
+// diagnose options) is not redone; its row is read back (batch_resume.h). A corrupt done.json is
+// the material's failure, naming the file; it is left as it is, never silently redone. Anything else (never run, interrupted,
 // failed, or changed in the manifest) is diagnosed afresh, its old done.json, failed.json and
 // material.json removed first, so that an interrupted run never leaves a material looking finished.
 // Over MPI ranks (options.ranks, twin/distributed/rank_group.h) whole materials are handed out
@@ -29,6 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "twin/base/json_field.h"
 #include "twin/batch/batch_manifest.h"
 #include "twin/distributed/rank_group.h"
 
@@ -48,6 +50,8 @@ struct BatchRow {
 };
 
 nlohmann::json row_json(const BatchRow& row);
+// Throws std::invalid_argument naming the source and the field missing or of another type.
+BatchRow row_from_field(const JsonField& f);
 BatchRow row_from_json(const nlohmann::json& j);
 
 struct BatchOptions {

@@ -166,7 +166,7 @@ nlohmann::json verdict_json(const DiagnoseOutcome& o, const DiagnosisRecord& rec
 std::string write_diagnosis_files(const DiagnoseOptions& options, const DiagnoseOutcome& o,
                                   const DiagnosisRecord& record, const std::vector<CandidateEffect>& candidates) {
   const std::filesystem::path dir(options.report);
-  std::filesystem::create_directories(dir);
+  create_directories_durably(dir);
   const Verdict& v = o.verdict;
   const bool effect = v.verdict == "effect";
   const std::filesystem::path augmented = dir / "material_augmented.json";

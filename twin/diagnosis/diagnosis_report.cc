@@ -136,21 +136,27 @@ void write_markdown(const ReportData& data, const fs::path& path) {
 
 void write_report(const ReportData& data, const fs::path& out_dir) {
   std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  if (ec) throw std::runtime_error("report: cannot create " + out_dir.string() + ": " + ec.message());
-  const fs::path tmp = out_dir / ".report.tmp";
-  fs::remove_all(tmp, ec);
-  fs::create_directories(tmp / "figures", ec);
-  if (ec) throw std::runtime_error("report: cannot create " + (tmp / "figures").string() + ": " + ec.message());
-  write_figures(data, tmp / "figures");
-  write_markdown(data, tmp / "report.md");
-  // Complete: move into place, figures first so report.md never points at missing pictures.
-  fs::remove_all(out_dir / "figures", ec);
-  fs::rename(tmp / "figures", out_dir / "figures", ec);
-  if (ec) throw std::runtime_error("report: cannot move figures into " + out_dir.string() + ": " + ec.message());
-  fs::rename(tmp / "report.md", out_dir / "report.md", ec);
-  if (ec) throw std::runtime_error("report: cannot write " + (out_dir / "report.md").string() + ": " + ec.message());
-  fs::remove_all(tmp, ec);
+  try {
+    create_directories_durably(out_dir);
+    const fs::path tmp = out_dir / ".report.tmp";
+    fs::remove_all(tmp, ec);
+    create_directories_durably(tmp / "figures");
+    // Each file is flushed with its directory as it is written (atomic_file.h).
+    write_figures(data, tmp / "figures");
+    write_markdown(data, tmp / "report.md");
+    // Complete: move into place, figures first so report.md never points at missing pictures,
+    // each move flushed before the next so that a crash cannot keep the second without the first.
+    fs::remove_all(out_dir / "figures", ec);
+    fs::rename(tmp / "figures", out_dir / "figures", ec);
+    if (ec) throw std::runtime_error("cannot move figures into " + out_dir.string() + ": " + ec.message());
+    sync_directory(out_dir);
+    fs::rename(tmp / "report.md", out_dir / "report.md", ec);
+    if (ec) throw std::runtime_error("cannot write " + (out_dir / "report.md").string() + ": " + ec.message());
+    sync_directory(out_dir);
+    fs::remove_all(tmp, ec);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("report: ") + e.what());
+  }
 }
 
 }  // namespace twin::diagnosis

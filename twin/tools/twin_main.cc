@@ -51,7 +51,7 @@ int solve(const std::string& scenario_path, const std::string& out_dir, bool ver
              model.material().bending_rigidity_u_Nm, model.material().bending_rigidity_v_Nm,
              model.material().bending_given_as_modulus() ? " (from modulus)" : "",
              model.material().surface_density_kg_m2);
-  std::filesystem::create_directories(out_dir);
+  create_directories_durably(out_dir);
 
   QuasiStaticSolver solver(model, clamps);
   ContinuationOptions options = scenario.solver;

@@ -66,7 +66,7 @@ void write_stage_ply(const std::filesystem::path& path, const TrialStage& stage,
 
 void write_residual_files(const std::string& directory, const TrialEvaluator& evaluator, const TrialFit& fit) {
   const std::filesystem::path dir(directory);
-  std::filesystem::create_directories(dir);
+  create_directories_durably(dir);
   const Trial& trial = evaluator.trial();
   for (std::size_t s = 0; s < fit.stages.size(); ++s) {
     const StageFit& stage_fit = fit.stages[s];

@@ -153,9 +153,7 @@ void write_trial(const Trial& trial, const std::string& directory) {
   const fs::path dir(directory);
   // Built first: an inconsistent trial throws before anything is written.
   const ordered_json manifest = trial_json(trial, dir);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(directory + ": cannot create directory: " + ec.message());
+  create_directories_durably(dir);
   for (const TrialStage& stage : trial.stages) write_observation(stage, dir);
   // The manifest last, so a trial.json never names files that were not written.
   write_file_atomically(dir / "trial.json", [&](std::ostream& out) { out << manifest.dump(2) << "\n"; });
