@@ -21,11 +21,11 @@ done
 
 # JUnit as CTest 3.25 writes it: one <testcase ... status="run|fail|notrun|disabled"> per entry.
 sum() { awk '{ n += $1 } END { print n + 0 }'; }
-entries=$(grep -c '<testcase ' "$@" /dev/null | awk -F: '{ print $NF }' | sum)
+entries=$({ grep -c '<testcase ' "$@" /dev/null || true; } | awk -F: '{ print $NF }' | sum)
 passed=$(grep -h '<testcase ' "$@" | grep -c 'status="run"' || true)
 not_passed=$(grep -h '<testcase ' "$@" | grep -v 'status="run"' | sed -E 's/.*name="([^"]*)".*status="([^"]*)".*/  \2: \1/' || true)
 # A failed entry whose junit status still says run would be missed: count failures too.
-failures=$(grep -c '<failure' "$@" /dev/null | awk -F: '{ print $NF }' | sum)
+failures=$({ grep -c '<failure' "$@" /dev/null || true; } | awk -F: '{ print $NF }' | sum)
 
 if ((selected)); then
   echo "selected ${entries}, ran ${passed}"
@@ -51,7 +51,7 @@ for d in "${declarations[@]}"; do
   args=(--list-test-names-only)
   [[ -n "$spec" ]] && args=("$spec" "${args[@]}")
   # --list-test-names-only exits with the number of cases listed.
-  "$exe" "${args[@]}" | awk -v p="$prefix" 'NF { print p $0 }' >> "$declared_file" || true
+  "$exe" "${args[@]}" | awk -v p="$prefix" 'BEGIN { sub(/ +$/, "", p) } NF { print p $0 }' >> "$declared_file" || true
 done
 sort -o "$declared_file" "$declared_file"
 ctest --test-dir "$build" -N | sed -n -E 's/^ *Test +#[0-9]+: //p' | sort > "$registered_file"
