@@ -25,16 +25,26 @@ cd "$(dirname "$0")/.."
 #    cell cases that must keep the cell's 10 Hz against its watchdog limits (cell_real_time,
 #    tests/CMakeLists.txt), which this build runs some 25 times slower; the long identification,
 #    diagnosis and learning cases (one identification end to end runs below).
+#
+# --build-only stops after the build (.ci/run starts it in the background at idle priority while
+# the README's test command runs, then calls this script again for the rest: the build is then
+# up to date and takes seconds).
+build_only=0
+[[ "${1:-}" == --build-only ]] && build_only=1
 source scripts/phase.sh
-phase "install clang" bash scripts/install_packages.sh clang libclang-rt-14-dev libomp-14-dev
+source scripts/packages.sh
+phase "install clang" bash scripts/install_packages.sh "${SANITIZER_PACKAGES[@]}"
+generator=()
+[[ -f build-asan/CMakeCache.txt ]] || ! command -v ninja > /dev/null || generator=(-G Ninja)
 # Without MPI (-DPREPREG_WITH_MPI=OFF): this tree is the build a machine without OpenMPI gets, so
 # its batch and grasp-planning tests check that one; the MPI runs are the Release suite's label mpi.
-CC=clang CXX=clang++ phase "configure sanitizer" cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPREPREG_SANITIZE=ON \
+CC=clang CXX=clang++ phase "configure sanitizer" cmake -S . -B build-asan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPREPREG_SANITIZE=ON \
   -DPREPREG_WITH_MPI=OFF -DPREPREG_SANITIZE_ACCESS_CHECKS=OFF -DPREPREG_FUZZ=ON -DPREPREG_FUZZ_COVERAGE=edges \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
 phase "build sanitizer" cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
   iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
   camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests batch_tests fuzz_harnesses
+((build_only)) && exit 0
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two cores (scripts/test.sh)
 # Each ctest call selects by label or name: --no-tests=error fails one that selects nothing, and

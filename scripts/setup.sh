@@ -6,24 +6,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(
-  build-essential cmake pkg-config             # compiler and build
-  ccache                                       # compiler cache: later builds of the same sources (scripts/cmake/compiler_cache.cmake)
-  libeigen3-dev                                # Eigen (twin)
-  libsuitesparse-dev libopenblas-dev           # CHOLMOD, with OpenBLAS as its BLAS
-  libnlopt-cxx-dev                             # NLopt C++ (identification)
-  libopenni2-dev libv4l-dev                    # camera drivers
-  libpcl-dev                                   # tracking
-  liblcm-dev liblcm-bin libglib2.0-dev         # LCM bus and lcm-gen (lcm.pc needs glib)
-  catch2                                       # tests
-  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
-  default-jdk-headless liblcm-java libjchart2d-java  # lcm-spy with our types (optional jar)
-  xvfb                                         # lcm-spy on a headless machine (scripts/lcm_spy.sh)
-  iproute2                                     # network namespaces of the udpm and fake-cell tests (scripts/with_loopback_lcm.sh)
-  libopenmpi-dev openmpi-bin                   # twin batch across MPI ranks (optional: built only when found)
-)
-
+source scripts/packages.sh
 source scripts/phase.sh
-phase "install packages" bash scripts/install_packages.sh "${PACKAGES[@]}"
-phase "configure Release" cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+phase "install packages" bash scripts/install_packages.sh "${PROJECT_PACKAGES[@]}"
+# Ninja for a new tree (when installed); a tree configured before keeps its generator (CMake
+# refuses a change).
+generator=()
+[[ -f build/CMakeCache.txt ]] || ! command -v ninja > /dev/null || generator=(-G Ninja)
+phase "configure Release" cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release
 phase "build Release" cmake --build build -j2

@@ -42,7 +42,8 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
 endif()
 
 # Makes a holder target `name` in the calling directory (so it gets that directory's options),
-# and `name`_pic, its position-independent twin.
+# and `name`_pic, its position-independent twin. Further arguments are headers of that folder's
+# own that most of its files include (the tests: Catch2).
 function(prepreg_pch_holder name)
   if(NOT PREPREG_PRECOMPILED_HEADERS)
     return()
@@ -51,7 +52,7 @@ function(prepreg_pch_holder name)
     add_library(${holder} STATIC ${PROJECT_SOURCE_DIR}/scripts/cmake/pch_holder.cc)
     target_link_libraries(${holder} PRIVATE Eigen3::Eigen fmt::fmt OpenMP::OpenMP_CXX)
     target_compile_options(${holder} PRIVATE ${PREPREG_PCH_CLANG_OPTIONS})
-    target_precompile_headers(${holder} PRIVATE ${PREPREG_PCH_HEADERS})
+    target_precompile_headers(${holder} PRIVATE ${PREPREG_PCH_HEADERS} ${ARGN})
   endforeach()
   set_property(TARGET ${name}_pic PROPERTY POSITION_INDEPENDENT_CODE ON)
 endfunction()

@@ -4,6 +4,7 @@
 // then a diagnosis of the same states (CELL_DIAGNOSIS, twin diagnose's report). The rig's sheet does not follow the grasps (its cameras render one equilibrium), so what
 // the fit finds is not the point here: tests/cell/learning/ judge fits on the independent sheet.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 
 #include "cell/learning/in_situ_calibration.h"
@@ -75,8 +76,30 @@ TEST_CASE("the cell records settled states, writes them as a trial and publishes
   REQUIRE(t.controller->calibrations() == 1);
   const cell::learning::CalibrationResult& c = *t.controller->last_calibration();
   INFO(c.reason);
-  CHECK(c.verdict != cell::learning::CalibrationVerdict::kFailed);
+  REQUIRE(c.verdict != cell::learning::CalibrationVerdict::kFailed);
   CHECK(c.fitted_states == 2);
+  // Either verdict may be right on the rig's sheet; each must agree with the scores it gives.
+  // The material the cell runs simulates its own states, and both scores are real distances.
+  CHECK(c.before.failure.empty());
+  CHECK(c.before.held_out_mean_m > 0.0);
+  CHECK(std::isfinite(c.before.held_out_mean_m));
+  const double needed_m = (1.0 - t.controller->config().learning.calibration.min_gain) * c.before.held_out_mean_m;
+  if (c.verdict == cell::learning::CalibrationVerdict::kAdopted) {
+    // Adopted: the held-out state is predicted better by the configured gain, the fitted ones no worse.
+    CHECK(c.after.failure.empty());
+    CHECK(c.after.held_out_mean_m < needed_m);
+    CHECK(c.after.fitted_rms_m <= c.before.fitted_rms_m);
+  } else {
+    // Refused: the candidate does not simulate, or is not enough better on the held-out state,
+    // or fits the fitted states worse; the reason says which.
+    const bool fails = !c.after.failure.empty();
+    const bool no_gain = !(c.after.held_out_mean_m < needed_m);
+    const bool fits_worse = !(c.after.fitted_rms_m <= c.before.fitted_rms_m);
+    CHECK((fails || no_gain || fits_worse));
+    if (fails) CHECK_THAT(c.reason, Catch::Contains("does not simulate"));
+    else if (no_gain) CHECK_THAT(c.reason, Catch::Contains("no better on the held-out state"));
+    else CHECK_THAT(c.reason, Catch::Contains("fits the fitted states worse"));
+  }
   t.controller->handle_bus(0);
   REQUIRE(messages.size() == 1);
   CHECK(messages[0].calibration_id == 1);

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -171,8 +172,26 @@ TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "
   int marker_residuals = 0;
   for (std::size_t s = 0; s + 1 < trial.stages.size(); ++s) marker_residuals += 3 * trial.stages[s].observed.seen_marker_count();
   CHECK(fit.residual_count == marker_residuals + 3 * points);
-  // At the truth, the cloud's points lie within the mesh's nearest-vertex floor (half an edge).
-  CHECK(cloud_stage.nearest.mean_m < 0.05);
+  // At the truth, on the lab's own mesh, a point's nearest vertex is the one nearest to its
+  // marker's material point: the floor is that distance in the flat sheet (strain and the
+  // curvature of the hanging sheet change it by well under a millimetre here), plus the scanner's
+  // 0.3 mm per axis. A point matched against a sheet that hangs elsewhere moves off this floor.
+  const twin::SheetMesh& mesh = evaluator.model().mesh();
+  double floor_sum_m = 0.0;
+  int floor_count = 0;
+  const std::vector<twin::Vec3>& seen = lab_trial().trial.stages.back().observed.markers_m;  // a row per marker
+  REQUIRE(seen.size() == trial.marker_uv_m.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    if (!seen[i].allFinite()) continue;
+    double nearest_m = std::numeric_limits<double>::infinity();
+    for (const twin::Vec2& uv : mesh.rest_uv) nearest_m = std::min(nearest_m, (uv - trial.marker_uv_m[i]).norm());
+    floor_sum_m += nearest_m;
+    ++floor_count;
+  }
+  REQUIRE(floor_count == points);
+  const double floor_m = floor_sum_m / floor_count;
+  INFO("Algorithm 1 mean " << 1e3 * cloud_stage.nearest.mean_m << " mm, nearest-vertex floor " << 1e3 * floor_m << " mm");
+  CHECK(std::abs(cloud_stage.nearest.mean_m - floor_m) < 1.5e-3);
   CHECK(fit.coordinate_gradient.allFinite());
 }
 
@@ -203,20 +222,24 @@ TEST_CASE("the gradient path recovers the lab's material from a noisy trial", "[
   REQUIRE(result.coordinates.size() == 3);
   twin::estimate_uncertainty(problem, result);
   const twin::Material& truth = lab_trial().truth;
-  const double tolerance[3] = {0.10, 0.10, 0.05};  // tensile, shear (issue: 10 %), bending (5 %)
+  // On the lab's own mesh the only gap between twin and lab is the scanner's noise (0.3 mm per
+  // axis), and every parameter moves the markers by more than that: each must be determined, its
+  // 95 % interval (from that noise) narrower than the accuracy asked of the method (tensile and
+  // shear 10 %, bending 5 %), and the truth within 1.5 half-widths of the estimate (about three
+  // standard deviations: a seed of the noise other than this one keeps it with 99.7 %).
+  const double tolerance[3] = {0.10, 0.10, 0.05};
   for (int j = 0; j < 3; ++j) {
     const twin::ParameterEstimate& e = result.estimates[j];
     const double true_value = twin::get_parameter(truth, e.parameter);
     INFO(twin::parameter_name(e.parameter) << " = " << e.value << " [" << e.lower95 << ", " << e.upper95
                                            << "], truth " << true_value << (e.determined ? "" : " (not determined)"));
-    if (e.determined) {
-      CHECK(std::abs(e.value / true_value - 1.0) < tolerance[j]);
-    } else {
-      CHECK(e.lower95 <= true_value);
-      CHECK(true_value <= e.upper95);
-    }
-    // Bending carries the hanging shape: it must be determined.
-    if (e.parameter == MaterialParameter::kBending) CHECK(e.determined);
+    REQUIRE(e.determined);
+    // Intervals are symmetric in log(parameter): half-width 1.96 sigma.
+    const double half_width = 0.5 * std::log(e.upper95 / e.lower95);
+    CHECK(half_width > 0.0);
+    CHECK(std::exp(half_width) - 1.0 < tolerance[j]);
+    CHECK(std::abs(std::log(e.value / true_value)) < 1.5 * half_width);
+    CHECK(std::abs(e.value / true_value - 1.0) < tolerance[j]);
   }
   // The fit is down to the scanner noise (0.3 mm per axis).
   CHECK(result.noise_sigma_m < 0.6e-3);

@@ -46,17 +46,32 @@ TEST_CASE("a material fitted to the other states from a wrong start is adopted w
   const auto r = cell::learning::calibrate_material(f.trial, wrong);
   INFO(r.reason);
   INFO(r.fit);
-  for (const auto& e : r.estimates) UNSCOPED_INFO(twin::parameter_name(e.parameter) << " " << e.value);
   CHECK(r.fitted_states == 3);
   CHECK(r.held_out_states == 1);
   REQUIRE(r.verdict == CalibrationVerdict::kAdopted);
   CHECK(r.after.held_out_mean_m < 0.9 * r.before.held_out_mean_m);
   CHECK(r.after.fitted_rms_m < r.before.fitted_rms_m);
   REQUIRE(r.estimates.size() == 3);
-  // Bending is what a hanging sheet shows: it comes back within a factor two of the truth's.
-  const double bending = r.candidate.bending_rigidity_u_Nm;
-  CHECK(bending > 0.5 * f.truth.bending_rigidity_u_Nm);
-  CHECK(bending < 2.0 * f.truth.bending_rigidity_u_Nm);
+  // What the fit may claim is set by its residual: the truth here is another discretisation (a
+  // 3 cm grid against a 400-triangle twin) and leaves some 6 mm RMS against 0.5 mm of noise, so
+  // each 95 % interval, computed from that residual, must hold the truth. Bending is what a
+  // hanging sheet shows: it must be determined, its interval narrower than a factor four (the
+  // start, 5x the truth, lies outside it). A parameter the states do not determine keeps the
+  // start's value in the candidate.
+  for (const auto& e : r.estimates) {
+    const double true_value = twin::get_parameter(f.truth, e.parameter);
+    INFO(twin::parameter_name(e.parameter) << " " << e.value << " [" << e.lower95 << ", " << e.upper95 << "], truth "
+                                           << true_value << (e.determined ? "" : " (not determined)"));
+    CHECK(e.lower95 <= true_value);
+    CHECK(true_value <= e.upper95);
+    if (e.parameter == twin::MaterialParameter::kBending) {
+      CHECK(e.determined);
+      CHECK(e.upper95 / e.lower95 < 4.0);
+      CHECK(r.candidate.bending_rigidity_u_Nm == e.value);
+    } else if (!e.determined) {
+      CHECK(twin::get_parameter(r.candidate, e.parameter) == twin::get_parameter(wrong, e.parameter));
+    }
+  }
   CHECK(r.candidate.name.find("calibrated in the cell") != std::string::npos);
 }
 
