@@ -36,7 +36,9 @@ function(prepreg_reject_unsplittable_names target)
 endfunction()
 
 function(prepreg_discover_tests target)
-  cmake_parse_arguments(ARG "" "TEST_PREFIX" "TEST_SPEC" ${ARGN})
+  # Every keyword of catch_discover_tests, so that TEST_SPEC (a list) ends where the next begins.
+  cmake_parse_arguments(ARG "" "TEST_PREFIX;TEST_SUFFIX;WORKING_DIRECTORY;TEST_LIST;REPORTER;OUTPUT_DIR;OUTPUT_PREFIX;OUTPUT_SUFFIX;DISCOVERY_MODE"
+                        "TEST_SPEC;EXTRA_ARGS;PROPERTIES" ${ARGN})
   prepreg_reject_unsplittable_names(${target})
   catch_discover_tests(${target} ${ARGN} EXTRA_ARGS --warn NoTests)
 

@@ -191,7 +191,7 @@ TEST_CASE("a stage seen as an unordered cloud is scored by Algorithm 1 alone", "
   REQUIRE(floor_count == points);
   const double floor_m = floor_sum_m / floor_count;
   INFO("Algorithm 1 mean " << 1e3 * cloud_stage.nearest.mean_m << " mm, nearest-vertex floor " << 1e3 * floor_m << " mm");
-  CHECK(std::abs(cloud_stage.nearest.mean_m - floor_m) < 1.5e-3);
+  CHECK(std::abs(cloud_stage.nearest.mean_m - floor_m) < 0.5e-3);
   CHECK(fit.coordinate_gradient.allFinite());
 }
 
