@@ -26,9 +26,7 @@ cd "$(dirname "$0")/.."
 #    tests/CMakeLists.txt), which this build runs some 25 times slower; the long identification,
 #    diagnosis and learning cases (one identification end to end runs below).
 #
-# --build-only stops after the build (.ci/run starts it in the background at idle priority while
-# the README's test command runs, then calls this script again for the rest: the build is then
-# up to date and takes seconds).
+# --build-only stops after the build (a later call without it then finds the tree up to date).
 build_only=0
 [[ "${1:-}" == --build-only ]] && build_only=1
 source scripts/phase.sh
