@@ -25,10 +25,6 @@ cd "$(dirname "$0")/.."
 #    cell cases that must keep the cell's 10 Hz against its watchdog limits (cell_real_time,
 #    tests/CMakeLists.txt), which this build runs some 25 times slower; the long identification,
 #    diagnosis and learning cases (one identification end to end runs below).
-#
-# --build-only stops after the build (a later call without it then finds the tree up to date).
-build_only=0
-[[ "${1:-}" == --build-only ]] && build_only=1
 source scripts/phase.sh
 source scripts/packages.sh
 phase "install clang" bash scripts/install_packages.sh "${SANITIZER_PACKAGES[@]}"
@@ -42,7 +38,6 @@ CC=clang CXX=clang++ phase "configure sanitizer" cmake -S . -B build-asan "${gen
 phase "build sanitizer" cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
   iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
   camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests batch_tests fuzz_harnesses
-((build_only)) && exit 0
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two cores (scripts/test.sh)
 # Each ctest call selects by label or name: --no-tests=error fails one that selects nothing, and
