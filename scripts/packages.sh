@@ -5,6 +5,7 @@ PROJECT_PACKAGES=(
   build-essential cmake pkg-config             # compiler and build
   ninja-build                                  # the build tool setup.sh configures (a target's files compile before the libraries it links are done)
   ccache                                       # compiler cache: later builds of the same sources (scripts/cmake/compiler_cache.cmake)
+  lld                                          # LLVM's linker: the test executables link faster (scripts/cmake/build_speed.cmake)
   libeigen3-dev                                # Eigen (twin)
   libsuitesparse-dev libopenblas-dev           # CHOLMOD, with OpenBLAS as its BLAS
   libnlopt-cxx-dev                             # NLopt C++ (identification)

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "sim_hw/d415_model.h"
+#include "sim_hw/openni2_sim_property.h"
 
 namespace sim_hw {
 namespace {
@@ -51,13 +52,6 @@ drivers::Intrinsics scaled(const drivers::Intrinsics& k, int width, int height) 
 drivers::Intrinsics stream_guess(const drivers::Intrinsics& k, const drivers::StreamMode& m, bool depth) {
   if (k.width == m.width && k.height == m.height) return k;
   return pinhole_from_hfov(m.width, m.height, depth ? kD415DepthHfovDeg : kD415ColorHfovDeg);
-}
-
-template <typename T>
-OniStatus put(void* data, int* size, const T& value) {
-  if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
-  std::memcpy(data, &value, sizeof(T));
-  return ONI_STATUS_OK;
 }
 
 OniStatus put_string(void* data, int* size, const std::string& text) {
@@ -180,10 +174,10 @@ OniStatus OpenNI2SimDevice::getProperty(int property, void* data, int* size) {
     case ONI_DEVICE_PROPERTY_FIRMWARE_VERSION:
       return put_string(data, size, "prepreg-sim");
     case ONI_DEVICE_PROPERTY_DRIVER_VERSION:
-      return put(data, size, OniVersion{1, 0, 0, 0});
+      return put_property(data, size, OniVersion{1, 0, 0, 0});
     // Registration is done by the reader through depth_to_color, never in the device.
     case ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION:
-      return put(data, size, static_cast<int>(ONI_IMAGE_REGISTRATION_OFF));
+      return put_property(data, size, static_cast<int>(ONI_IMAGE_REGISTRATION_OFF));
     default:
       return ONI_STATUS_NOT_SUPPORTED;
   }

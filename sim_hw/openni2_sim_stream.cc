@@ -3,17 +3,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "sim_hw/openni2_sim_property.h"
+
 namespace sim_hw {
 namespace {
 
 constexpr int kMaxDepthMm = 65535;  // Z16: the whole uint16 range is a valid distance
-
-template <typename T>
-OniStatus put(void* data, int* size, T value) {
-  if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
-  std::memcpy(data, &value, sizeof(T));
-  return ONI_STATUS_OK;
-}
 
 int bytes_per_pixel(OniSensorType sensor) { return sensor == ONI_SENSOR_DEPTH ? 2 : 3; }
 
@@ -61,29 +56,29 @@ OniBool OpenNI2SimStream::isPropertySupported(int property) {
 OniStatus OpenNI2SimStream::getProperty(int property, void* data, int* size) {
   switch (property) {
     case ONI_STREAM_PROPERTY_VIDEO_MODE:
-      return put(data, size, current_);
+      return put_property(data, size, current_);
     // Field of view from the pinhole intrinsics (rad), as a D415 reports it.
     case ONI_STREAM_PROPERTY_HORIZONTAL_FOV: {
       std::lock_guard lock(intrinsics_mutex_);
-      return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.width / intrinsics_.fx)));
+      return put_property(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.width / intrinsics_.fx)));
     }
     case ONI_STREAM_PROPERTY_VERTICAL_FOV: {
       std::lock_guard lock(intrinsics_mutex_);
-      return put(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.height / intrinsics_.fy)));
+      return put_property(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.height / intrinsics_.fy)));
     }
     case ONI_STREAM_PROPERTY_MIRRORING:
       return put<OniBool>(data, size, FALSE);
     case ONI_STREAM_PROPERTY_CROPPING: {
       OniCropping none{};
       none.enabled = FALSE;
-      return put(data, size, none);
+      return put_property(data, size, none);
     }
     case ONI_STREAM_PROPERTY_STRIDE:
-      return put(data, size, current_.resolutionX * bytes_per_pixel(sensor_));
+      return put_property(data, size, current_.resolutionX * bytes_per_pixel(sensor_));
     case ONI_STREAM_PROPERTY_MAX_VALUE:
-      return sensor_ == ONI_SENSOR_DEPTH ? put(data, size, kMaxDepthMm) : ONI_STATUS_NOT_SUPPORTED;
+      return sensor_ == ONI_SENSOR_DEPTH ? put_property(data, size, kMaxDepthMm) : ONI_STATUS_NOT_SUPPORTED;
     case ONI_STREAM_PROPERTY_MIN_VALUE:
-      return sensor_ == ONI_SENSOR_DEPTH ? put(data, size, 0) : ONI_STATUS_NOT_SUPPORTED;
+      return sensor_ == ONI_SENSOR_DEPTH ? put_property(data, size, 0) : ONI_STATUS_NOT_SUPPORTED;
     default:
       return ONI_STATUS_NOT_SUPPORTED;
   }

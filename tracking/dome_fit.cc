@@ -12,12 +12,6 @@ constexpr int kMaxIterations = 50;
 constexpr double kStepToleranceM = 1e-9;  // far below any scanner's resolution
 constexpr int kTrimRounds = 3;
 
-Vec3 centroid_of(const std::vector<Vec3>& points) {
-  Vec3 sum = Vec3::Zero();
-  for (const Vec3& p : points) sum += p;
-  return sum / static_cast<double>(points.size());
-}
-
 double rms_distance(const std::vector<Vec3>& points, double radius, const Vec3& centre) {
   double sum = 0.0;
   for (const Vec3& p : points) {
@@ -135,6 +129,12 @@ DomeFit fit_dome_sphere(const std::vector<Vec3>& points, double radius,
   fit.kept_points = static_cast<int>(kept.size());
   fit.rms_m = rms_distance(kept, radius, best.centre);
   return fit;
+}
+
+Vec3 centroid_of(const std::vector<Vec3>& points) {
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& p : points) sum += p;
+  return sum / static_cast<double>(points.size());
 }
 
 Vec3 dome_centroid_offset(const std::vector<Vec3>& points, double radius, const Vec3& normal) {

@@ -45,6 +45,9 @@ Vec3 dome_bulge_direction(const std::vector<Vec3>& points_m);
 DomeFit fit_dome_sphere(const std::vector<Vec3>& points_m, double radius_m,
                         const std::vector<Vec3>& start_centres_m);
 
+// The mean of `points_m` (not empty).
+Vec3 centroid_of(const std::vector<Vec3>& points_m);
+
 // centroid - (radius / 2) * normal, with `normal` the unit sheet normal toward the scanner.
 Vec3 dome_centroid_offset(const std::vector<Vec3>& points_m, double radius_m, const Vec3& normal);
 

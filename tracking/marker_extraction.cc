@@ -39,12 +39,6 @@ void check_options(const MarkerExtractionOptions& o) {
   }
 }
 
-Vec3 centroid_of(const std::vector<Vec3>& points) {
-  Vec3 sum = Vec3::Zero();
-  for (const Vec3& p : points) sum += p;
-  return sum / static_cast<double>(points.size());
-}
-
 // Point indices (into `scan`) of every Euclidean cluster, singletons included.
 std::vector<std::vector<int>> euclidean_clusters(const std::vector<Vec3>& scan,
                                                  double tolerance_m, int& non_finite) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cell/learning/seconds_since.h"
 #include "twin/trials/trial_evaluator.h"
 
 namespace cell::learning {
@@ -18,10 +19,6 @@ twin::TwinMeshSpec mesh_as_given() {
   twin::TwinMeshSpec spec;
   spec.path_triangles = 0;
   return spec;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 twin::Trial without_last_stage(twin::Trial trial) {

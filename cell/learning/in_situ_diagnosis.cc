@@ -7,15 +7,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "cell/learning/seconds_since.h"
 
 namespace cell::learning {
 namespace {
 
 namespace fs = std::filesystem;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Progress lines are where the diagnosis can be told to stop (it has no other hook): thrown
 // through run_diagnosis, which owns nothing that outlives it.

@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "sim_hw/real_sheet/cross_matrix.h"
+
 namespace sim_hw::real_sheet {
 namespace {
 
@@ -47,12 +49,6 @@ Vec15 differences(const Vec27& x, const Eigen::Matrix<double, 5, 9>& C) {
     }
   }
   return y;
-}
-
-Mat3 cross_matrix(const Vec3& v) {
-  Mat3 m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
 }
 
 }  // namespace

@@ -10,16 +10,12 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "sim_hw/real_sheet/cross_matrix.h"
+
 namespace sim_hw::real_sheet {
 namespace {
 
 using Mat3 = Eigen::Matrix3d;
-
-Mat3 cross_matrix(const Vec3& v) {
-  Mat3 m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 // Rings of sample points covering the annulus [r0, r1], each ring `width` wide, points about
 // `spacing` apart along the ring; area weights sum to the annulus's area.

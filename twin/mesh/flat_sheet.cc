@@ -12,7 +12,7 @@
 namespace twin {
 namespace {
 
-std::string short_number(double value) {
+std::string four_digits(double value) {
   std::ostringstream out;
   out << std::setprecision(4) << value;
   return out.str();
@@ -62,8 +62,8 @@ std::vector<Vec2> project_onto_best_fit_plane(const std::vector<Vec3>& p, double
   }
   if (worst_distance > tolerance) {
     throw std::invalid_argument("sheet_mesh_from_flat: mesh is not flat: vertex " +
-                                std::to_string(worst) + " is " + short_number(worst_distance) +
-                                " m from the best-fit plane (tolerance " + short_number(tolerance) +
+                                std::to_string(worst) + " is " + four_digits(worst_distance) +
+                                " m from the best-fit plane (tolerance " + four_digits(tolerance) +
                                 " m)");
   }
   const auto [u, v] = plane_axes(n);
@@ -128,8 +128,8 @@ SheetMesh sheet_mesh_from_flat(const SurfaceMesh& mesh, double flatness_toleranc
     const double material = sheet.total_rest_area();
     if (std::abs(material - surface) > 0.1 * surface) {
       throw std::invalid_argument(
-          "sheet_mesh_from_flat: the texture coordinates span " + short_number(material) +
-          " m^2 but the surface " + short_number(surface) +
+          "sheet_mesh_from_flat: the texture coordinates span " + four_digits(material) +
+          " m^2 but the surface " + four_digits(surface) +
           " m^2; material coordinates (u v / vt) must be in metres on the undeformed sheet");
     }
   }
