@@ -67,7 +67,7 @@ OniStatus OpenNI2SimStream::getProperty(int property, void* data, int* size) {
       return put_property(data, size, static_cast<float>(2.0 * std::atan(0.5 * intrinsics_.height / intrinsics_.fy)));
     }
     case ONI_STREAM_PROPERTY_MIRRORING:
-      return put<OniBool>(data, size, FALSE);
+      return put_property<OniBool>(data, size, FALSE);
     case ONI_STREAM_PROPERTY_CROPPING: {
       OniCropping none{};
       none.enabled = FALSE;

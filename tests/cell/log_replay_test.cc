@@ -18,7 +18,7 @@
 
 namespace {
 
-constexpr std::int64_t kStart_us = 1'800'000'000'000'000;
+constexpr std::int64_t kLogStart_us = 1'800'000'000'000'000;
 
 // Writes `cycles` cycles at 20 Hz, the messages of a cycle 1 ms apart; cycle `wrong` (if >= 0)
 // logs a max error 3 mm larger than its sheets give.
@@ -28,7 +28,7 @@ void write_log(const std::string& path, int cycles, int wrong = -1) {
   std::mt19937 rng(21);
   std::int64_t event = 0;
   for (int id = 0; id < cycles; ++id) {
-    const std::int64_t t = kStart_us + id * 50'000;
+    const std::int64_t t = kLogStart_us + id * 50'000;
     auto c = testing_support::make_cycle(id, t, rng, 10, id == 4 ? "cam_left" : "");
     if (id == wrong) {  // consistent in itself (score is checked on receipt), wrong for the sheets
       c.error.max_m += 0.003f;
@@ -93,7 +93,7 @@ TEST_CASE("replay: a logged run reproduces the logged errors at the logged times
   REQUIRE(r.summary.state_changes().size() == 3);
   CHECK(r.summary.state_changes()[1].cycle_id == 4);
   CHECK(r.summary.state_changes()[1].seen_utime ==
-        kStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
+        kLogStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
 }
 
 TEST_CASE("replay: a log whose error disagrees with its sheets is caught", "[monitor]") {

@@ -16,27 +16,27 @@ namespace dx = twin::diagnosis;
 
 namespace {
 
-constexpr int kTriangles = 300;
+constexpr int kRefitTriangles = 300;
 
-const sim_hw::LabTrial& lab_trial() {
-  static const sim_hw::LabTrial lab = sim_hw::make_lab_trial(testing_support::uniform_lab_config(11, kTriangles));
+const sim_hw::LabTrial& refit_lab_trial() {
+  static const sim_hw::LabTrial lab = sim_hw::make_lab_trial(testing_support::uniform_lab_config(11, kRefitTriangles));
   return lab;
 }
 
 // The lab trial with stage `stage`'s markers moved `offset_m` along z.
 twin::Trial with_stage_moved(int stage, double offset_m) {
-  twin::Trial trial = lab_trial().trial;
+  twin::Trial trial = refit_lab_trial().trial;
   for (twin::Vec3& m : trial.stages.at(stage).observed.markers_m) m.z() += offset_m;
   return trial;
 }
 
 dx::Refit refit(double offset_m) {
   const twin::Trial moved = with_stage_moved(2, offset_m);
-  twin::TrialEvaluator training(moved, kTriangles, lab_trial().truth);
-  twin::TrialEvaluator testing(lab_trial().trial, kTriangles, lab_trial().truth);
+  twin::TrialEvaluator training(moved, kRefitTriangles, refit_lab_trial().truth);
+  twin::TrialEvaluator testing(refit_lab_trial().trial, kRefitTriangles, refit_lab_trial().truth);
   dx::RefitOptions options;
   options.max_evaluations = 30;
-  return dx::refit_candidate(dx::find_effect("marker_mass"), {&training}, {&testing}, lab_trial().truth,
+  return dx::refit_candidate(dx::find_effect("marker_mass"), {&training}, {&testing}, refit_lab_trial().truth,
                              Eigen::VectorXd(), std::nullopt, /*sigma_m=*/0.3e-3, options,
                              [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
 }
@@ -49,7 +49,7 @@ TEST_CASE("a refit with one stage far off runs the robust pass and keeps the bet
   REQUIRE(r.usable());
   REQUIRE(r.robust.has_value());
   REQUIRE(r.robust->outliers.size() == 1);
-  CHECK(r.robust->outliers[0].stage == lab_trial().trial.stages[2].id);
+  CHECK(r.robust->outliers[0].stage == refit_lab_trial().trial.stages[2].id);
   CHECK(r.robust->outliers[0].ratio > dx::kOutlierStageRatio);
   CHECK(r.robust->outliers[0].weight == Approx(std::pow(dx::kOutlierStageRatio / r.robust->outliers[0].ratio, 2)));
   REQUIRE(std::isfinite(r.robust->robust_m2));

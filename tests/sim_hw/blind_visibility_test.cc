@@ -15,13 +15,13 @@
 namespace {
 
 using twin::MaterialParameter;
-constexpr int kTriangles = 100;
+constexpr int kVisibilityTriangles = 100;
 
 sim_hw::BlindTrialSet make_set(std::uint64_t seed, const std::string& effect) {
   sim_hw::BlindSetConfig config;
   config.seed = seed;
   config.truth_model = sim_hw::TruthModel::kTwin;  // effects as the twin itself makes them
-  config.triangles = kTriangles;
+  config.triangles = kVisibilityTriangles;
   config.forced_effect = effect;
   return sim_hw::make_blind_trial_set(config);
 }
@@ -38,11 +38,11 @@ double held_out_error_m(const sim_hw::BlindTrialSet& set, const std::vector<Mate
   start.shear_stiffness_N_m *= 0.8;
   start.bending_rigidity_u_Nm *= 1.2;
   start.bending_rigidity_v_Nm *= 1.2;
-  twin::TrialEvaluator train_1(set.trials[0].trial, kTriangles, start), train_2(set.trials[1].trial, kTriangles, start);
+  twin::TrialEvaluator train_1(set.trials[0].trial, kVisibilityTriangles, start), train_2(set.trials[1].trial, kVisibilityTriangles, start);
   twin::IdentificationProblem problem({&train_1, &train_2}, start, parameters);
   const twin::IdentificationResult result = twin::identify_gradient(problem, {});
   INFO(result.stop_reason);
-  twin::TrialEvaluator test(set.trials[2].trial, kTriangles, result.material);
+  twin::TrialEvaluator test(set.trials[2].trial, kVisibilityTriangles, result.material);
   const twin::TrialFit fit = test.evaluate(result.material, parameters);
   INFO(fit.failure);
   REQUIRE(fit.usable());

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-namespace twin {
+namespace twin::mesh_io_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -291,4 +291,4 @@ TEST_CASE("header counts that the file cannot hold are refused before allocating
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::mesh_io_test

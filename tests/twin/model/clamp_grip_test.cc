@@ -9,7 +9,7 @@
 #include "twin/model/shell_model.h"
 #include "twin/solvers/static_solver.h"
 
-namespace twin {
+namespace twin::clamp_grip_test {
 namespace {
 
 Material strip_material(double grip_width_m) {
@@ -152,4 +152,4 @@ TEST_CASE("clamp grip: the equilibrium's tangents in strength and width match re
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::clamp_grip_test

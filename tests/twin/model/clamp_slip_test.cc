@@ -10,7 +10,7 @@
 #include "twin/model/shell_model.h"
 #include "twin/solvers/static_solver.h"
 
-namespace twin {
+namespace twin::clamp_slip_test {
 namespace {
 
 Material strip_material(double compliance_m_N) {
@@ -142,4 +142,4 @@ TEST_CASE("clamp slip: the equilibrium's tangent in the compliance matches re-so
   }
 }
 
-}  // namespace twin
+}  // namespace twin::clamp_slip_test

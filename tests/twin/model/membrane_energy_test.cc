@@ -7,7 +7,7 @@
 #include "tests/support/random_states.h"
 #include "twin/model/material.h"
 
-namespace twin {
+namespace twin::membrane_energy_test {
 namespace {
 
 using testing::finite_difference_errors;
@@ -109,4 +109,4 @@ TEST_CASE("the checker catches a planted derivative bug", "[twin][energy][checke
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::membrane_energy_test

@@ -13,7 +13,7 @@
 #include "twin/model/material.h"
 #include "twin/model/membrane_term.h"
 
-namespace twin {
+namespace twin::patch_test {
 namespace {
 
 Material anisotropic_material() {
@@ -103,4 +103,4 @@ TEST_CASE("membrane passes the uniform-strain patch test", "[twin][physics]") {
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::patch_test

@@ -12,7 +12,7 @@
 #include "twin/model/membrane_term.h"
 #include "twin/mesh/mesh_refinement.h"
 
-namespace twin {
+namespace twin::quadratic_membrane_test {
 namespace {
 
 using testing::finite_difference_errors;
@@ -139,4 +139,4 @@ TEST_CASE("a mesh without quadratic patches is refused by the quadratic membrane
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::quadratic_membrane_test

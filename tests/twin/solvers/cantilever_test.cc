@@ -32,7 +32,7 @@
 
 #include "twin/solvers/static_solver.h"
 
-namespace twin {
+namespace twin::cantilever_test {
 namespace {
 
 constexpr double kFreeLength_m = 0.1;
@@ -161,9 +161,9 @@ TEST_CASE("a clamped strip sags as an Euler-Bernoulli cantilever", "[twin][physi
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::cantilever_test
 
-namespace twin {
+namespace twin::cantilever_test {
 namespace {
 
 TEST_CASE("a plate-bending strip sags as Euler-Bernoulli with the material's Poisson coupling",
@@ -179,4 +179,4 @@ TEST_CASE("a plate-bending strip sags as Euler-Bernoulli with the material's Poi
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::cantilever_test

@@ -5,7 +5,7 @@
 #include "twin/solvers/coarse_to_fine_statics.h"
 #include "tests/support/vertex_distance.h"
 
-namespace twin {
+namespace twin::coarse_to_fine_statics_test {
 namespace {
 
 constexpr double kWidth_m = 0.6, kHeight_m = 0.4;
@@ -119,4 +119,4 @@ TEST_CASE("coarse meshes that do not cover the sheet, or are not coarser, are re
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::coarse_to_fine_statics_test

@@ -11,7 +11,7 @@
 
 #include "twin/solvers/implicit_stepper.h"
 
-namespace twin {
+namespace twin::dynamics_test {
 namespace {
 
 constexpr double kWidth_m = 0.4, kHeight_m = 0.3, kStep_s = 0.01;
@@ -133,4 +133,4 @@ TEST_CASE("the first step is usable when a clamp starts at full speed",
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::dynamics_test

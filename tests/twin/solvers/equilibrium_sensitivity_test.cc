@@ -18,7 +18,7 @@
 
 #include "twin/solvers/static_solver.h"
 
-namespace twin {
+namespace twin::equilibrium_sensitivity_test {
 namespace {
 
 constexpr double kFiniteDifferenceStep = 1e-3;  // relative, in p
@@ -356,4 +356,4 @@ TEST_CASE("update refactorises at a new material's equilibrium, a stale factor i
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::equilibrium_sensitivity_test

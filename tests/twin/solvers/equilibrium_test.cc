@@ -11,7 +11,7 @@
 
 #include "twin/solvers/static_solver.h"
 
-namespace twin {
+namespace twin::equilibrium_test {
 namespace {
 
 constexpr double kWidth_m = 0.6, kHeight_m = 0.5, kClampHeight_m = 1.2, kDensity_kg_m2 = 0.3;
@@ -144,4 +144,4 @@ TEST_CASE("a static solve that cannot converge leaves x exactly as it was", "[tw
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::equilibrium_test

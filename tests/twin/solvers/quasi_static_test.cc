@@ -2,7 +2,7 @@
 
 #include <catch2/catch.hpp>
 
-namespace twin {
+namespace twin::quasi_static_test {
 namespace {
 
 struct Rig {
@@ -109,4 +109,4 @@ TEST_CASE("a clamp that grips again takes the sheet as it is", "[twin][quasi_sta
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::quasi_static_test

@@ -14,7 +14,7 @@
 #include "twin/model/clamp.h"
 #include "twin/model/shell_model.h"
 
-namespace twin {
+namespace twin::rest_state_test {
 namespace {
 
 constexpr double kEdge_m = 0.03;
@@ -134,4 +134,4 @@ TEST_CASE("rigid motions leave elastic energies invariant and rotate their force
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::rest_state_test

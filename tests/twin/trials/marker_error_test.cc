@@ -7,7 +7,7 @@
 #include "twin/mesh/material_point.h"
 #include "twin/trials/trial_simulation.h"
 
-namespace twin {
+namespace twin::marker_error_test {
 namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -81,4 +81,4 @@ TEST_CASE("the level placement fits the clamps' first positions", "[twin][metric
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::marker_error_test

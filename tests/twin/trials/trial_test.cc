@@ -15,7 +15,7 @@
 #include "twin/mesh/mesh_io.h"
 #include "tests/support/temp_dir.h"
 
-namespace twin {
+namespace twin::trial_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -451,4 +451,4 @@ TEST_CASE("broken trial directories are rejected naming the file and the field o
 }
 
 }  // namespace
-}  // namespace twin
+}  // namespace twin::trial_test
