@@ -115,7 +115,8 @@ TEST_CASE("Levenberg-Marquardt damps a step that leaves its bounds and goes uphi
     p.usable = true;
     p.jacobian = MatrixXd(2, 2);
     p.jacobian << 1.0, 1.0, 1.0, 1.1;
-    p.residuals = p.jacobian * y - VectorXd((VectorXd(2) << 1.0, 0.8).finished());
+    const Eigen::Vector2d data(1.0, 0.8);
+    p.residuals = p.jacobian * y - data;
     return p;
   };
   const VectorXd start = VectorXd::Zero(2);
