@@ -1,11 +1,15 @@
 # Compiles through ccache when the machine has it (scripts/setup.sh installs it), so a second
-# build of the same sources - another build type's tree, a fresh clone in another folder, CI
-# after a session on the same machine - takes its objects from the cache instead of compiling
-# them again.
+# build of the same sources in the same folder - the trees again after a branch switch or a clean,
+# CI rerun where the machine keeps its cache and clones to the same path - takes its objects from
+# the cache instead of compiling them again.
+# A clone in another folder shares entries only with PREPREG_UNITY_BUILD=OFF: CMake 3.25 writes
+# each unity batch as includes of its files' absolute paths, which ccache hashes with the batch
+# (CMake 3.32's UNITY_BUILD_RELOCATABLE writes them relative; Debian 12 has 3.25).
 #
 # The settings travel on the launcher's command line, not in the user's ccache.conf:
-# - base_dir = the source tree: absolute paths under it are hashed relative to the build
-#   directory, so two clones in different folders share entries;
+# - base_dir = the source tree: absolute paths under it on the command line are hashed
+#   relative to the build directory (two clones in different folders share the entries of
+#   files compiled one by one);
 # - hash_dir = false: -g1 (the sanitizer tree) would otherwise hash the build directory;
 # - sloppiness pch_defines,time_macros + include_file_mtime/ctime: what ccache needs to cache
 #   compilations that use the precompiled header (scripts/cmake/precompiled_headers.cmake), whose
