@@ -38,9 +38,11 @@ Cholesky::Cholesky() : state_(std::make_unique<State>()) {
   state_->common.print = 0;
   state_->common.error_handler = nullptr;
   state_->common.quick_return_if_not_posdef = 1;
-  // Nested dissection: less fill than AMD on a grid; analysed once per pattern.
+  // Nested dissection: less fill than AMD on a grid; analysed once per pattern. CHOLMOD's own,
+  // not METIS_NodeND, which swaps the process's SIGTERM handler for its own while it runs
+  // (twin/solvers/sparse_cholesky.cc says what that did to a process stopped by a signal).
   state_->common.nmethods = 1;
-  state_->common.method[0].ordering = CHOLMOD_METIS;
+  state_->common.method[0].ordering = CHOLMOD_NESDIS;
   single_threaded_blas();
 }
 

@@ -174,25 +174,34 @@ class FakeCell {
 
 // Puts the cell in SAFE_HOLD with `inject`, checks that no robot command crosses the bus while
 // it holds, then clears the fault with `clear` and waits for RUNNING again.
+// Catch builds an INFO message where it is written, so one written before a wait would show the
+// processes' output as it was then. These take the logs and the last state once the condition has
+// been evaluated: a failure shows what the cell and the world printed up to it.
+#define LOGGED_ASSERTION(ASSERT, cell, ...)                                                              \
+  do {                                                                                                 \
+    const bool passed_ = static_cast<bool>(__VA_ARGS__);                                               \
+    INFO(#__VA_ARGS__ << "\nlast state " << (cell).log().state << ": " << (cell).log().reason << "\n" \
+                      << (cell).logs());                                                               \
+    ASSERT(passed_);                                                                                   \
+  } while (false)
+#define REQUIRE_LOGGED(cell, ...) LOGGED_ASSERTION(REQUIRE, cell, __VA_ARGS__)
+#define CHECK_LOGGED(cell, ...) LOGGED_ASSERTION(CHECK, cell, __VA_ARGS__)
+
 void check_safe_hold_and_recovery(FakeCell& cell, const std::string& cause, const std::function<void()>& inject,
                                   const std::function<void()>& clear, const std::string& reason_word) {
   INFO("cause: " << cause);
   inject();
-  INFO(cell.logs());
-  {
-    INFO("last state " << cell.log().state << ": " << cell.log().reason);
-    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_SAFE_HOLD, {reason_word}, 10.0));
-  }
+  REQUIRE_LOGGED(cell, cell.wait_state_naming(cell_state_t::STATE_SAFE_HOLD, {reason_word}, 10.0));
   const auto held = Clock::now();
   cell.pump(2.0);
-  CHECK(cell.log().state == cell_state_t::STATE_SAFE_HOLD);
+  CHECK_LOGGED(cell, cell.log().state == cell_state_t::STATE_SAFE_HOLD);
   // Commands sent just before the switch may still be in flight: 0.3 s grace.
-  CHECK(cell.robot_commands_after(held + std::chrono::milliseconds(300)) == 0);
+  CHECK_LOGGED(cell, cell.robot_commands_after(held + std::chrono::milliseconds(300)) == 0);
   clear();
-  REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 20.0));
+  REQUIRE_LOGGED(cell, cell.wait_state({cell_state_t::STATE_RUNNING}, 20.0));
   const auto recovered = Clock::now();
   cell.pump(1.0);
-  CHECK(cell.robot_commands_after(recovered) > 0);  // commanding again
+  CHECK_LOGGED(cell, cell.robot_commands_after(recovered) > 0);  // commanding again
 }
 
 }  // namespace
@@ -200,57 +209,54 @@ void check_safe_hold_and_recovery(FakeCell& cell, const std::string& cause, cons
 TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, holds safe and recovers") {
   testing_support::TempDir dir("fake_cell");
   FakeCell cell(dir);
-  INFO(cell.logs());
 
   // Start-up: READY (then RUNNING as the experiment starts).
-  REQUIRE(cell.wait_state({cell_state_t::STATE_READY, cell_state_t::STATE_RUNNING}, 120.0));
+  REQUIRE_LOGGED(cell, cell.wait_state({cell_state_t::STATE_READY, cell_state_t::STATE_RUNNING}, 120.0));
 
   // The experiment: four states, each predicted and compared with what the cameras see.
   const fs::path results = dir / "experiment.json";
-  REQUIRE(cell.pump_until([&] { return fs::exists(results); }, 240.0));
-  nlohmann::json experiment;
-  std::ifstream(results) >> experiment;
-  INFO(experiment.dump(2));
-  REQUIRE(experiment["states"].size() == 4);
-  for (const auto& state : experiment["states"]) {
-    // Twin (identified parameters, 1500 triangles) vs the tracked true sheet (the fake world's
-    // truth physics and material).
-    CHECK(state["prediction_error"]["mean_m"].get<double>() < 0.03);
+  REQUIRE_LOGGED(cell, cell.pump_until([&] { return fs::exists(results); }, 240.0));
+  {
+    nlohmann::json experiment;
+    std::ifstream(results) >> experiment;
+    INFO(experiment.dump(2));
+    REQUIRE(experiment["states"].size() == 4);
+    for (const auto& state : experiment["states"]) {
+      // Twin (identified parameters, 1500 triangles) vs the tracked true sheet (the fake world's
+      // truth physics and material).
+      CHECK(state["prediction_error"]["mean_m"].get<double>() < 0.03);
+    }
   }
 
   // Cycling: PREDICTION_ERROR keeps coming while RUNNING. The rate itself is a benchmark's
   // figure (cell_benchmark), not asserted here: a loaded machine cycles slower and is not wrong.
-  REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 10.0));
+  REQUIRE_LOGGED(cell, cell.wait_state({cell_state_t::STATE_RUNNING}, 10.0));
   const auto window_start = Clock::now();
   cell.pump(5.0);
   const int cycles = cell.errors_between(window_start, Clock::now());
-  INFO("cycles in 5 s: " << cycles << " (configured " << kCycleHz << " Hz)");
-  CHECK(cycles >= 5);
+  {
+    INFO("cycles in 5 s: " << cycles << " (configured " << kCycleHz << " Hz)");
+    CHECK_LOGGED(cell, cycles >= 5);
+  }
 
   // One camera killed: DEGRADED, still cycling; back: RUNNING.
   cell.fault("cam_left", "dead", true);
-  {
-    INFO("last state " << cell.log().state << ": " << cell.log().reason);
-    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"cam_left"}, 10.0));
-  }
+  REQUIRE_LOGGED(cell, cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"cam_left"}, 10.0));
   const auto degraded = Clock::now();
   cell.pump(2.0);
-  CHECK(cell.errors_between(degraded, Clock::now()) >= 2);  // still cycling
-  CHECK(cell.robot_commands_after(degraded) > 0);
+  CHECK_LOGGED(cell, cell.errors_between(degraded, Clock::now()) >= 2);  // still cycling
+  CHECK_LOGGED(cell, cell.robot_commands_after(degraded) > 0);
   cell.fault("cam_left", "dead", false);
-  REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 20.0));
+  REQUIRE_LOGGED(cell, cell.wait_state({cell_state_t::STATE_RUNNING}, 20.0));
 
   // A camera knocked on its mount (the world renders it 1 cm off, its frames still carry the
   // configured pose): the running calibration check finds the pair that disagrees -> DEGRADED,
   // commands go on; back in place -> RUNNING.
   cell.fault("cam_left", "bumped", true);
-  {
-    INFO("last state " << cell.log().state << ": " << cell.log().reason);
-    REQUIRE(cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"calibration check", "cam_left"}, 30.0));
-  }
-  CHECK(cell.robot_commands_after(Clock::now() - std::chrono::seconds(1)) > 0);
+  REQUIRE_LOGGED(cell, cell.wait_state_naming(cell_state_t::STATE_DEGRADED, {"calibration check", "cam_left"}, 30.0));
+  CHECK_LOGGED(cell, cell.robot_commands_after(Clock::now() - std::chrono::seconds(1)) > 0);
   cell.fault("cam_left", "bumped", false);
-  REQUIRE(cell.wait_state({cell_state_t::STATE_RUNNING}, 30.0));
+  REQUIRE_LOGGED(cell, cell.wait_state({cell_state_t::STATE_RUNNING}, 30.0));
 
   // All cameras dead, a twin failure, a silent arm: SAFE_HOLD, no robot command, recovery.
   const std::vector<std::string> cameras = {"cam_front", "cam_left", "cam_right"};

@@ -38,10 +38,18 @@ SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {
   // "Not positive definite" is an expected answer here (the solver then shifts the matrix),
   // not something to print to stderr.
   common.print = 0;
-  // Nested dissection (METIS) gives 10-30 % less fill than AMD on sheet meshes; the analysis is
-  // slower but done once per sparsity pattern.
+  // Nested dissection gives less fill than AMD on sheet meshes; the analysis is slower but done
+  // once per sparsity pattern. CHOLMOD's own (NESDIS), not METIS_NodeND (CHOLMOD_METIS): for the
+  // whole of each call METIS_NodeND replaces the process's SIGTERM and SIGABRT handlers with
+  // one that longjmps to the calling thread's jump buffer (GKlib's gk_sigtrap). In a process
+  // whose other threads factorise, a SIGTERM in that window ran METIS's handler on the main
+  // thread, which has no jump buffer: cell_controller died with SIGSEGV in ____longjmp_chk
+  // instead of stopping. NESDIS asks METIS only for separators (METIS_ComputeVertexSeparator,
+  // which traps nothing), and gives as little fill (twin_solver_limits prints both).
+  // tests/twin/solvers/sparse_cholesky_signals_test.cc checks that an analysis leaves the
+  // handlers alone.
   common.nmethods = 1;
-  common.method[0].ordering = CHOLMOD_METIS;
+  common.method[0].ordering = CHOLMOD_NESDIS;
   use_single_threaded_blas();
 }
 
