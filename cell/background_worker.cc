@@ -3,7 +3,10 @@
 #include <sched.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -23,6 +26,19 @@ std::string apply_to_this_thread(WorkerPriority priority) {
 }
 
 }  // namespace
+
+int restore_normal_priority_of_all_threads() {
+  int refused = 0;
+  std::error_code error;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", error)) {
+    const int tid = std::atoi(task.path().filename().c_str());
+    if (tid <= 0 || sched_getscheduler(tid) != SCHED_IDLE) continue;
+    sched_param parameters{};
+    parameters.sched_priority = 0;
+    refused += sched_setscheduler(tid, SCHED_OTHER, &parameters) != 0;
+  }
+  return refused;
+}
 
 std::optional<WorkerPriority> worker_priority_from_name(const std::string& name) {
   if (name == "normal") return WorkerPriority::kNormal;

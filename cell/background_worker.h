@@ -21,6 +21,14 @@
 namespace cell {
 
 enum class WorkerPriority { kNormal, kIdle };
+
+// Puts every thread of this process back at the normal policy (SCHED_OTHER) where it may;
+// returns how many threads it could not move (EPERM without CAP_SYS_NICE or a suitable
+// RLIMIT_NICE). For a process about to end with std::_Exit after letting an idle-priority worker
+// go: the kernel ends a process only once each of its threads has run to take its exit, and a
+// SCHED_IDLE thread on a machine other processes keep busy waited 20-30 s for that (measured
+// with two `yes` beside the fake cell), while the process stayed unreaped.
+int restore_normal_priority_of_all_threads();
 // "normal" / "idle", as config files and command lines spell them; nullopt for another name.
 std::optional<WorkerPriority> worker_priority_from_name(const std::string& name);
 

@@ -223,6 +223,7 @@ int main(int argc, char** argv) {
   // without waiting for it (and without running destructors under it).
   if (!cell.shut_down_background(std::chrono::seconds(2))) {
     fmt::print("cell_controller: background learning still running at exit, abandoned\n");
+    cell::restore_normal_priority_of_all_threads();  // so that its threads end with the process
     std::fflush(stdout);
     std::fflush(stderr);
     std::_Exit(status);

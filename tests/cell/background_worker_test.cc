@@ -68,6 +68,21 @@ TEST_CASE("an idle-priority worker runs its tasks under SCHED_IDLE, a normal one
   CHECK(policy() == SCHED_OTHER);
 }
 
+// A cell that let an idle-priority worker go puts its threads back at the normal policy before it
+// ends, so that the kernel can end them at once on a busy machine.
+TEST_CASE("restoring the normal priority moves an idle-priority worker's thread back to SCHED_OTHER",
+          "[cell][worker]") {
+  BackgroundWorker idle(WorkerPriority::kIdle);
+  const auto policy = [] { return sched_getscheduler(0); };
+  REQUIRE(idle.priority_problem().empty());
+  REQUIRE(idle.submit(policy).get() == SCHED_IDLE);
+  const int refused = restore_normal_priority_of_all_threads();
+  // Leaving SCHED_IDLE needs CAP_SYS_NICE or an RLIMIT_NICE that allows nice 0: where it was
+  // refused, the worker must still be as it was.
+  CHECK(idle.submit(policy).get() == (refused == 0 ? SCHED_OTHER : SCHED_IDLE));
+  CHECK(policy() == SCHED_OTHER);
+}
+
 // A stopping cell does not wait for a starved background task: it lets the worker go, the task
 // ends on its own later, and nothing it owns is freed under it.
 TEST_CASE("finish_or_let_go waits for an idle worker, lets a busy one go and drops what has not started",
