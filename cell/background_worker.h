@@ -29,6 +29,7 @@ enum class WorkerPriority { kNormal, kIdle };
 // SCHED_IDLE thread on a machine other processes keep busy waited 20-30 s for that (measured
 // with two `yes` beside the fake cell), while the process stayed unreaped.
 int restore_normal_priority_of_all_threads();
+
 // "normal" / "idle", as config files and command lines spell them; nullopt for another name.
 std::optional<WorkerPriority> worker_priority_from_name(const std::string& name);
 
