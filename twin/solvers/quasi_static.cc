@@ -21,7 +21,7 @@ std::string ContinuationReport::brief() const {
 }
 
 QuasiStaticSolver::QuasiStaticSolver(const ShellModel& model, const ClampSet& clamps)
-    : model_(model), clamps_(clamps), statics_(model) {}
+    : clamps_(clamps), statics_(model) {}
 
 ContinuationReport QuasiStaticSolver::move(const std::vector<ClampPose>& from,
                                            const std::vector<ClampPose>& to, VecX& x,

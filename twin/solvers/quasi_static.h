@@ -40,7 +40,6 @@ class QuasiStaticSolver {
                           VecX& x, const ContinuationOptions& options = {});
 
  private:
-  const ShellModel& model_;
   const ClampSet& clamps_;
   StaticSolver statics_;
 };
