@@ -172,8 +172,6 @@ class FakeCell {
   std::unique_ptr<ChildProcess> world_, cell_;
 };
 
-// Puts the cell in SAFE_HOLD with `inject`, checks that no robot command crosses the bus while
-// it holds, then clears the fault with `clear` and waits for RUNNING again.
 // Catch builds an INFO message where it is written, so one written before a wait would show the
 // processes' output as it was then. These take the logs and the last state once the condition has
 // been evaluated: a failure shows what the cell and the world printed up to it.
@@ -187,6 +185,8 @@ class FakeCell {
 #define REQUIRE_LOGGED(cell, ...) LOGGED_ASSERTION(REQUIRE, cell, __VA_ARGS__)
 #define CHECK_LOGGED(cell, ...) LOGGED_ASSERTION(CHECK, cell, __VA_ARGS__)
 
+// Puts the cell in SAFE_HOLD with `inject`, checks that no robot command crosses the bus while
+// it holds, then clears the fault with `clear` and waits for RUNNING again.
 void check_safe_hold_and_recovery(FakeCell& cell, const std::string& cause, const std::function<void()>& inject,
                                   const std::function<void()>& clear, const std::string& reason_word) {
   INFO("cause: " << cause);
