@@ -68,6 +68,15 @@ void BlockSparseMatrix::add_to_diagonal(const Eigen::VectorXd& d) {
   for (int c = 0; c < size(); ++c) values_[starts_[c + 1] - 1] += d[c];
 }
 
+void BlockSparseMatrix::fix_blocks(const std::vector<char>& fixed) {
+  for (int c = 0; c < size(); ++c) {
+    for (int k = starts_[c]; k < starts_[c + 1]; ++k) {
+      const int r = rows_[k];
+      if (fixed[r / 3] || fixed[c / 3]) values_[k] = r == c ? 1.0 : 0.0;
+    }
+  }
+}
+
 Eigen::MatrixXd BlockSparseMatrix::dense() const {
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(size(), size());
   for (int c = 0; c < size(); ++c) {

@@ -26,6 +26,9 @@ class BlockSparseMatrix {
     add(blocks.data(), static_cast<int>(blocks.size()), H);
   }
   void add_to_diagonal(const Eigen::VectorXd& d);
+  // Rows and columns of the blocks marked fixed become those of the identity: a Newton step
+  // then leaves those unknowns where they are (their gradient must be zeroed alongside).
+  void fix_blocks(const std::vector<char>& fixed);
 
   const std::vector<int>& column_starts() const { return starts_; }
   const std::vector<int>& row_indices() const { return rows_; }

@@ -1,0 +1,89 @@
+#include "sim_hw/spline_shell/shell_equilibrium.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "sim_hw/real_sheet/cholesky.h"
+
+namespace sim_hw::spline_shell {
+
+std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x) {
+  std::vector<int> fixed = holds.fixed_controls;
+  for (const JawHold& h : holds.jaws) {
+    const std::vector<int> held = held_controls(model.patch(), h.jaw);
+    place_held_controls(model.patch(), h.jaw, held, h.centre_m, h.rotation, x);
+    fixed.insert(fixed.end(), held.begin(), held.end());
+  }
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+  return fixed;
+}
+
+Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, const VecX& x) {
+  VecX g = VecX::Zero(model.dof_count());
+  model.energy(x, &g, nullptr);
+  Vec3 f = Vec3::Zero();
+  for (int c : held) f -= g.segment<3>(3 * c);
+  return f;
+}
+
+namespace {
+
+// The shell with its held controls as fixed unknowns: their gradient is zero and their rows of
+// the Hessian the identity's, so no step moves them.
+class HeldShell final : public real_sheet::NewtonProblem {
+ public:
+  HeldShell(const ShellModel& model, std::vector<char> fixed, VecX& x) : model_(model), fixed_(std::move(fixed)), x_(x) {}
+  double energy_at(const VecX* dx, double alpha, VecX* g) const override {
+    if (g) *g = VecX::Zero(model_.dof_count());
+    const double e = dx ? model_.energy(x_ + alpha * *dx, g, nullptr) : model_.energy(x_, g, nullptr);
+    if (g) {
+      for (std::size_t c = 0; c < fixed_.size(); ++c) {
+        if (fixed_[c]) g->segment<3>(3 * c).setZero();
+      }
+    }
+    return e;
+  }
+  void hessian(BlockSparseMatrix& H, Hessian kind) const override {
+    H.set_zero();
+    model_.energy(x_, nullptr, &H, kind);
+    H.fix_blocks(fixed_);
+  }
+  void move(const VecX& dx, double alpha) override { x_ = x_ + alpha * dx; }
+  double longest_move_m(const VecX& dx) const override { return dx.lpNorm<Eigen::Infinity>(); }
+  void save() override { saved_ = x_; }
+  void restore() override { x_ = saved_; }
+
+ private:
+  const ShellModel& model_;
+  std::vector<char> fixed_;
+  VecX& x_;
+  VecX saved_;
+};
+
+}  // namespace
+
+ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, VecX& x, const ShellSolveOptions& options) {
+  const VecX x_start = x;
+  std::vector<char> fixed(model.patch().control_count(), 0);
+  for (int c : apply_holds(model, holds, x)) fixed[c] = 1;
+  VecX metric(model.dof_count());
+  for (int c = 0; c < model.patch().control_count(); ++c) {
+    metric.segment<3>(3 * c).setConstant(std::max(model.control_mass_kg()[c], 1e-12));
+  }
+  BlockSparseMatrix H = model.hessian_pattern();
+  real_sheet::Cholesky cholesky;
+  real_sheet::DampedNewtonOptions newton;
+  newton.tolerance_N = options.force_tolerance * model.total_weight_N();
+  newton.step_tolerance_m = options.step_tolerance_m;
+  newton.max_iterations = options.max_iterations;
+  newton.initial_damping_1_s2 = options.initial_damping_1_s2;
+  newton.step_limit_m = options.step_limit_m;
+  newton.trace = options.trace || std::getenv("SPLINE_SHELL_TRACE") != nullptr;
+  HeldShell problem(model, std::move(fixed), x);
+  const ShellSolveReport report = real_sheet::damped_newton(problem, H, cholesky, metric, newton);
+  if (!report.converged && !report.budget_used) x = x_start;  // the jaws' placement too
+  return report;
+}
+
+}  // namespace sim_hw::spline_shell

@@ -1,0 +1,53 @@
+#pragma once
+// Static equilibrium of the reference sheet: the shell (shell_model.h) with some control points
+// held where they are put: the square jaws' (square_jaw.h, placed at each jaw's pose) and any
+// other fixed controls (a clamped edge's first two rows hold its position and slope). The free
+// controls are found by the lab's damped Newton method (sim_hw/real_sheet/damped_newton.h) on
+// CHOLMOD, with the controls' masses as its metric; the held ones are fixed unknowns (identity
+// rows), exact at every refinement, with no penalty to tune.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sim_hw/real_sheet/damped_newton.h"
+#include "sim_hw/spline_shell/shell_model.h"
+#include "sim_hw/spline_shell/square_jaw.h"
+
+namespace sim_hw::spline_shell {
+
+struct JawHold {
+  SquareJaw jaw;
+  Vec3 centre_m = Vec3::Zero();  // where the jaw holds the clamp's material point
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // columns: world u, v, normal of the pad
+};
+
+struct ShellHolds {
+  std::vector<JawHold> jaws;
+  std::vector<int> fixed_controls;  // held where x has them
+};
+
+struct ShellSolveOptions {
+  double force_tolerance = 1e-9;  // of the sheet's weight, per free control
+  double step_tolerance_m = 1e-10;
+  int max_iterations = 400;
+  double initial_damping_1_s2 = 0.0;
+  double step_limit_m = 0.05;
+  bool trace = false;  // also SPLINE_SHELL_TRACE in the environment
+};
+
+using ShellSolveReport = real_sheet::DampedNewtonReport;
+
+// Every control the holds fix (sorted, distinct), after placing the jaws' in x.
+std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x);
+
+// Puts the jaws' controls at their poses and solves for the rest; x (control points, m) is
+// updated in place on success and left as it was on failure.
+ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, VecX& x,
+                             const ShellSolveOptions& options = {});
+
+// The force (N) the held controls exert on the sheet in equilibrium: minus the sum of the
+// energy's gradient over them (at a converged x, the free controls' gradient is zero).
+Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, const VecX& x);
+
+}  // namespace sim_hw::spline_shell

@@ -1,0 +1,166 @@
+#include "sim_hw/spline_shell/shell_model.h"
+
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sim_hw/real_sheet/kirchhoff_love_point.h"
+
+namespace sim_hw::spline_shell {
+namespace {
+
+using real_sheet::Mat15;
+using real_sheet::Vec15;
+
+// Rows of the point weights in the order of the bending kernel's y = (x_uu, x_vv, x_uv, x_u, x_v).
+constexpr int kRows[5] = {kUU, kVV, kUV, kU, kV};
+
+}  // namespace
+
+ShellModel::ShellModel(SplinePatch patch, SheetMaterial material, std::vector<Vec2> marker_uv_m)
+    : patch_(std::move(patch)),
+      material_(std::move(material)),
+      markers_(std::move(marker_uv_m)),
+      age_s_(std::numeric_limits<double>::quiet_NaN()) {
+  mass_kg_ = VecX::Zero(patch_.control_count());
+  rest_k_.resize(patch_.element_count());
+  for (int e = 0; e < patch_.element_count(); ++e) {
+    const std::vector<int>& controls = patch_.element_controls(e);
+    for (const QuadraturePoint& q : patch_.element_points(e)) {
+      for (std::size_t k = 0; k < controls.size(); ++k) {
+        mass_kg_[controls[k]] += material_.density_kg_m2 * q.area_m2 * q.w(kValue, k);
+      }
+      rest_k_[e].push_back(real_sheet::rest_curvature_at(material_, q.uv_m));
+    }
+  }
+  for (std::size_t m = 0; m < markers_.size(); ++m) {
+    const Vec2& uv = markers_[m];
+    if (!(uv.x() >= 0 && uv.x() <= patch_.width_m() && uv.y() >= 0 && uv.y() <= patch_.height_m())) {
+      throw std::invalid_argument(fmt::format("spline shell: marker {} at ({}, {}) m is off the {} x {} m sheet", m,
+                                              uv.x(), uv.y(), patch_.width_m(), patch_.height_m()));
+    }
+    const PointWeights pw = patch_.weights_at(uv);
+    for (std::size_t k = 0; k < pw.controls.size(); ++k) mass_kg_[pw.controls[k]] += material_.marker_mass_kg * pw.w(kValue, k);
+  }
+}
+
+double ShellModel::total_weight_N() const { return mass_kg_.sum() * real_sheet::kGravity_m_s2; }
+
+BlockSparseMatrix ShellModel::hessian_pattern() const {
+  std::vector<std::vector<int>> groups;
+  groups.reserve(patch_.element_count());
+  for (int e = 0; e < patch_.element_count(); ++e) groups.push_back(patch_.element_controls(e));
+  return BlockSparseMatrix(patch_.control_count(), groups);
+}
+
+double ShellModel::element_energy(int element, const VecX& x, bool membrane, bool bending, Eigen::VectorXd* g,
+                                  Eigen::MatrixXd* H, Hessian kind) const {
+  const std::vector<int>& controls = patch_.element_controls(element);
+  const int n = static_cast<int>(controls.size());
+  Eigen::Matrix<double, 3, Eigen::Dynamic> P(3, n);
+  for (int k = 0; k < n; ++k) P.col(k) = x.segment<3>(3 * controls[k]);
+  const double creep = material_.creep_factor(age_s_);
+  Eigen::Matrix3d C = material_.membrane_C_N_m;
+  C(2, 2) *= creep;
+  const Eigen::Matrix3d D = creep * material_.bending_D_Nm();
+  if (g) *g = Eigen::VectorXd::Zero(3 * n);
+  if (H) *H = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  Eigen::Matrix<double, 5, Eigen::Dynamic> W(5, n);
+  double energy = 0;
+  const std::vector<QuadraturePoint>& points = patch_.element_points(element);
+  for (std::size_t qi = 0; qi < points.size(); ++qi) {
+    const QuadraturePoint& q = points[qi];
+    for (int r = 0; r < 5; ++r) W.row(r) = q.w.row(kRows[r]);
+    Vec15 y;
+    for (int r = 0; r < 5; ++r) y.segment<3>(3 * r) = P * W.row(r).transpose();
+    Vec15 gy = Vec15::Zero();
+    Mat15 Hy = Mat15::Zero();
+    if (bending) {
+      Vec15 gb;
+      Mat15 Hb;
+      energy += q.area_m2 * real_sheet::kirchhoff_love_density(y, rest_k_[element][qi], D, material_.stiffening_m2,
+                                                               g ? &gb : nullptr, H ? &Hb : nullptr, kind);
+      if (g) gy += gb;
+      if (H) Hy += Hb;
+    }
+    if (membrane) {
+      Vec6 gm;
+      Mat6 Hm;
+      energy += q.area_m2 * membrane_density(y.tail<6>(), C, Eigen::Vector3d::Zero(), g ? &gm : nullptr,
+                                             H ? &Hm : nullptr, kind);
+      if (g) gy.tail<6>() += gm;
+      if (H) Hy.bottomRightCorner<6, 6>() += Hm;
+    }
+    if (g) {
+      for (int r = 0; r < 5; ++r) {
+        const Eigen::Vector3d gr = q.area_m2 * gy.segment<3>(3 * r);
+        for (int k = 0; k < n; ++k) g->segment<3>(3 * k) += W(r, k) * gr;
+      }
+    }
+    if (H) {
+      // H_x(3s + a, 3t + b) = sum_{r, r'} W(r, s) Hy(3r + a, 3r' + b) W(r', t): per (a, b) a
+      // 5 x 5 block pushed through the weights.
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          Eigen::Matrix<double, 5, 5> Hab;
+          for (int r = 0; r < 5; ++r) {
+            for (int s = 0; s < 5; ++s) Hab(r, s) = Hy(3 * r + a, 3 * s + b);
+          }
+          const Eigen::MatrixXd M = q.area_m2 * (W.transpose() * (Hab * W));
+          for (int s = 0; s < n; ++s) {
+            for (int t = 0; t < n; ++t) (*H)(3 * s + a, 3 * t + b) += M(s, t);
+          }
+        }
+      }
+    }
+  }
+  return energy;
+}
+
+double ShellModel::energy(const VecX& x, VecX* gradient, BlockSparseMatrix* hessian, Hessian kind) const {
+  const int elements = patch_.element_count();
+  std::vector<double> energies(elements, 0.0);
+  std::vector<Eigen::VectorXd> gradients(gradient ? elements : 0);
+  std::vector<Eigen::MatrixXd> hessians(hessian ? elements : 0);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int e = 0; e < elements; ++e) {
+    energies[e] = element_energy(e, x, true, true, gradient ? &gradients[e] : nullptr, hessian ? &hessians[e] : nullptr, kind);
+  }
+  double energy = 0;
+  for (int e = 0; e < elements; ++e) {
+    energy += energies[e];
+    const std::vector<int>& controls = patch_.element_controls(e);
+    if (gradient) {
+      for (std::size_t k = 0; k < controls.size(); ++k) gradient->segment<3>(3 * controls[k]) += gradients[e].segment<3>(3 * k);
+    }
+    if (hessian) hessian->add(controls, hessians[e]);
+  }
+  for (int c = 0; c < patch_.control_count(); ++c) {
+    const double weight_N = mass_kg_[c] * real_sheet::kGravity_m_s2;
+    energy += weight_N * x[3 * c + 2];
+    if (gradient) (*gradient)[3 * c + 2] += weight_N;
+  }
+  return energy;
+}
+
+double ShellModel::membrane_energy(const VecX& x) const {
+  double energy = 0;
+  for (int e = 0; e < patch_.element_count(); ++e) energy += element_energy(e, x, true, false, nullptr, nullptr, Hessian::kExact);
+  return energy;
+}
+
+double ShellModel::bending_energy(const VecX& x) const {
+  double energy = 0;
+  for (int e = 0; e < patch_.element_count(); ++e) energy += element_energy(e, x, false, true, nullptr, nullptr, Hessian::kExact);
+  return energy;
+}
+
+std::vector<Vec3> ShellModel::marker_positions(const VecX& x) const {
+  std::vector<Vec3> out;
+  out.reserve(markers_.size());
+  for (const Vec2& uv : markers_) out.push_back(patch_.position(x, uv));
+  return out;
+}
+
+}  // namespace sim_hw::spline_shell
