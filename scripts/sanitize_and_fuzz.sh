@@ -14,7 +14,8 @@ cd "$(dirname "$0")/.."
 #    its tests about 3x slower to run, and ASan reports the null and out-of-bounds accesses
 #    they would (docs/tests_and_ci.md).
 #    Tested here: the twin (with its optional effects), the independent sheet (sim_hw/real_sheet),
-#    the drivers (config, frame monitor, V4L2 back-end over its in-process emulation, session
+#    the reference sheet (sim_hw/spline_shell), the drivers (config, frame monitor, V4L2 back-end
+#    over its in-process emulation, session
 #    recording, LCM bus, iiwa kinematics), the simulated D415, the fake world (arms, grippers,
 #    true sheet, a memq run with emulated cameras), the marker pipeline and the sheet tracker
 #    (also on simulated D415s), the cell controller (label cell: start-up, configs, pacing,
@@ -36,7 +37,7 @@ CC=clang CXX=clang++ phase "configure sanitizer" cmake -S . -B build-asan "${gen
   -DPREPREG_WITH_MPI=OFF -DPREPREG_SANITIZE_ACCESS_CHECKS=OFF -DPREPREG_FUZZ=ON -DPREPREG_FUZZ_COVERAGE=edges \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
 phase "build sanitizer" cmake --build build-asan -j2 --target twin_tests effects_tests sim_hw_tests drivers_tests lcm_bus_tests \
-  iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests tracking_tests tracker_tests \
+  iiwa_kinematics_tests camera_sim_tests world_tests real_sheet_tests spline_shell_tests tracking_tests tracker_tests \
   camera_tracking_tests monitor_tests cell_log_diagnosis_tests grasp_planning_tests cell_tests batch_tests fuzz_harnesses
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two cores (scripts/test.sh)
@@ -45,7 +46,7 @@ export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"  # two test processes on two core
 results="$PWD/build-asan/test-results"
 rm -rf "$results" && mkdir -p "$results"
 phase "test sanitizer" ctest --test-dir build-asan --output-on-failure -j2 --no-tests=error --output-junit "$results/sanitizer.xml" \
-  -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell|batch)$"
+  -L "^(twin|effects|drivers|lcm_bus|iiwa|camera_sim|world|real_sheet|spline_shell|tracking|tracker|camera_tracking|monitor|cell_log|grasp_planning|cell|batch)$"
 # Identification end to end (lab trial, evaluator, adjoint and tangents) once under the
 # sanitizers; the other identification cases repeat the same code paths for longer.
 phase "test sanitizer identification" ctest --test-dir build-asan -R "adjoint gradient of the marker misfit" --output-on-failure \

@@ -35,6 +35,7 @@ DampedNewtonReport damped_newton(NewtonProblem& problem, BlockSparseMatrix& H, C
     return report;
   };
   int exact_pause = 0;                         // iterations left before the exact Hessian is tried again
+  BlockSparseMatrix exact;                     // the unshifted exact Hessian, for shifted_exact
   double step_limit_m = options.step_limit_m;  // trust radius: no point moves further in a step
   for (report.iterations = 0; report.iterations < options.max_iterations; ++report.iterations) {
     report.max_force_N = problem.largest_force_N(g);
@@ -50,9 +51,18 @@ DampedNewtonReport damped_newton(NewtonProblem& problem, BlockSparseMatrix& H, C
     bool factored = false;
     if (!options.projected_hessian && exact_pause == 0) {
       problem.hessian(H, Hessian::kExact);
+      if (options.shifted_exact) exact = H;
       if (mu > 0) H.add_to_diagonal(mu * metric);
       ++report.factorizations;
       factored = cholesky.factorize(H);
+      double shift = std::max(mu_floor, 4.0 * mu);
+      for (int attempt = 0; options.shifted_exact && !factored && attempt < 6; ++attempt, shift *= 8.0) {
+        H = exact;
+        H.add_to_diagonal(shift * metric);
+        ++report.factorizations;
+        factored = cholesky.factorize(H);
+        if (factored) mu = shift;
+      }
       if (!factored) exact_pause = 3;
     } else if (exact_pause > 0) {
       --exact_pause;

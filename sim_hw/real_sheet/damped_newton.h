@@ -49,6 +49,10 @@ struct DampedNewtonOptions {
   bool keep_on_limit = false;
   bool projected_hessian = false;
   double step_limit_m = 0.05;
+  // Where the exact Hessian is not positive definite, try it shifted by mu M (Levenberg-Marquardt,
+  // mu growing 8-fold from max(1, 4 mu), up to six times) before the projected one: near an
+  // equilibrium with compressed regions the projected Hessian converges only linearly.
+  bool shifted_exact = false;
   bool trace = false;  // one line per iteration on stderr
 };
 

@@ -18,8 +18,8 @@ using Basis = Eigen::Spline<double, 1, Eigen::Dynamic>;
 
 KnotVector::KnotVector(int degree, std::vector<double> breaks_m, std::vector<int> multiplicities)
     : degree_(degree), breaks_(std::move(breaks_m)), multiplicity_(std::move(multiplicities)) {
-  if (degree_ < 2 || degree_ > 5) {
-    throw std::invalid_argument(fmt::format("spline shell: degree {} (expected 2 to 5: the shell needs C1 bases)", degree_));
+  if (degree_ < 2 || degree_ > 4) {
+    throw std::invalid_argument(fmt::format("spline shell: degree {} (expected 2 to 4: the shell needs C1 bases)", degree_));
   }
   if (breaks_.size() < 2 || breaks_.front() != 0.0) {
     throw std::invalid_argument("spline shell: breakpoints must start at 0 and hold at least two values");

@@ -16,7 +16,7 @@ namespace sim_hw::spline_shell {
 
 class KnotVector {
  public:
-  // Throws std::invalid_argument for a degree outside 2..5, fewer than two breakpoints,
+  // Throws std::invalid_argument for a degree outside 2..4, fewer than two breakpoints,
   // breakpoints that are not finite and strictly increasing from 0, or multiplicities (one per
   // breakpoint, ends ignored; empty: all simple) outside 1..p - 1.
   KnotVector(int degree, std::vector<double> breaks_m, std::vector<int> multiplicities = {});

@@ -79,6 +79,7 @@ ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, V
   newton.max_iterations = options.max_iterations;
   newton.initial_damping_1_s2 = options.initial_damping_1_s2;
   newton.step_limit_m = options.step_limit_m;
+  newton.shifted_exact = true;
   newton.trace = options.trace || std::getenv("SPLINE_SHELL_TRACE") != nullptr;
   HeldShell problem(model, std::move(fixed), x);
   const ShellSolveReport report = real_sheet::damped_newton(problem, H, cholesky, metric, newton);

@@ -1,5 +1,6 @@
 #include "sim_hw/spline_shell/shell_model.h"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -54,26 +55,37 @@ BlockSparseMatrix ShellModel::hessian_pattern() const {
   return BlockSparseMatrix(patch_.control_count(), groups);
 }
 
+namespace {
+
+// Element-sized work on the stack: at most (p + 1)^2 = 25 controls (degree 4).
+constexpr int kMaxControls = 25;
+using Weights = Eigen::Matrix<double, 5, Eigen::Dynamic, 0, 5, kMaxControls>;
+using Controls = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, kMaxControls>;
+using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxControls, kMaxControls>;
+
+}  // namespace
+
 double ShellModel::element_energy(int element, const VecX& x, bool membrane, bool bending, Eigen::VectorXd* g,
                                   Eigen::MatrixXd* H, Hessian kind) const {
   const std::vector<int>& controls = patch_.element_controls(element);
   const int n = static_cast<int>(controls.size());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> P(3, n);
+  Controls P(3, n);
   for (int k = 0; k < n; ++k) P.col(k) = x.segment<3>(3 * controls[k]);
   const double creep = material_.creep_factor(age_s_);
   Eigen::Matrix3d C = material_.membrane_C_N_m;
   C(2, 2) *= creep;
   const Eigen::Matrix3d D = creep * material_.bending_D_Nm();
-  if (g) *g = Eigen::VectorXd::Zero(3 * n);
-  if (H) *H = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  Eigen::Matrix<double, 5, Eigen::Dynamic> W(5, n);
+  if (g) g->setZero(3 * n);
+  if (H) H->setZero(3 * n, 3 * n);
+  Weights W(5, n);
+  Controls G = Controls::Zero(3, n);
   double energy = 0;
   const std::vector<QuadraturePoint>& points = patch_.element_points(element);
   for (std::size_t qi = 0; qi < points.size(); ++qi) {
     const QuadraturePoint& q = points[qi];
     for (int r = 0; r < 5; ++r) W.row(r) = q.w.row(kRows[r]);
-    Vec15 y;
-    for (int r = 0; r < 5; ++r) y.segment<3>(3 * r) = P * W.row(r).transpose();
+    const Eigen::Matrix<double, 3, 5> Y = P * W.transpose();  // columns x_uu, x_vv, x_uv, x_u, x_v
+    const Vec15 y = Eigen::Map<const Vec15>(Y.data());
     Vec15 gy = Vec15::Zero();
     Mat15 Hy = Mat15::Zero();
     if (bending) {
@@ -92,12 +104,8 @@ double ShellModel::element_energy(int element, const VecX& x, bool membrane, boo
       if (g) gy.tail<6>() += gm;
       if (H) Hy.bottomRightCorner<6, 6>() += Hm;
     }
-    if (g) {
-      for (int r = 0; r < 5; ++r) {
-        const Eigen::Vector3d gr = q.area_m2 * gy.segment<3>(3 * r);
-        for (int k = 0; k < n; ++k) g->segment<3>(3 * k) += W(r, k) * gr;
-      }
-    }
+    // dE/dP = sum_r gy_r W_r^T (3 x n).
+    if (g) G.noalias() += q.area_m2 * Eigen::Map<const Eigen::Matrix<double, 3, 5>>(gy.data()) * W;
     if (H) {
       // H_x(3s + a, 3t + b) = sum_{r, r'} W(r, s) Hy(3r + a, 3r' + b) W(r', t): per (a, b) a
       // 5 x 5 block pushed through the weights.
@@ -105,36 +113,42 @@ double ShellModel::element_energy(int element, const VecX& x, bool membrane, boo
         for (int b = 0; b < 3; ++b) {
           Eigen::Matrix<double, 5, 5> Hab;
           for (int r = 0; r < 5; ++r) {
-            for (int s = 0; s < 5; ++s) Hab(r, s) = Hy(3 * r + a, 3 * s + b);
+            for (int s = 0; s < 5; ++s) Hab(r, s) = q.area_m2 * Hy(3 * r + a, 3 * s + b);
           }
-          const Eigen::MatrixXd M = q.area_m2 * (W.transpose() * (Hab * W));
-          for (int s = 0; s < n; ++s) {
-            for (int t = 0; t < n; ++t) (*H)(3 * s + a, 3 * t + b) += M(s, t);
+          const Square M = W.transpose() * (Hab * W);
+          for (int t = 0; t < n; ++t) {
+            for (int s = 0; s < n; ++s) (*H)(3 * s + a, 3 * t + b) += M(s, t);
           }
         }
       }
     }
   }
+  if (g) *g = Eigen::Map<const Eigen::VectorXd>(G.data(), 3 * n);
   return energy;
 }
 
 double ShellModel::energy(const VecX& x, VecX* gradient, BlockSparseMatrix* hessian, Hessian kind) const {
-  const int elements = patch_.element_count();
-  std::vector<double> energies(elements, 0.0);
-  std::vector<Eigen::VectorXd> gradients(gradient ? elements : 0);
-  std::vector<Eigen::MatrixXd> hessians(hessian ? elements : 0);
-#pragma omp parallel for schedule(dynamic, 8)
-  for (int e = 0; e < elements; ++e) {
-    energies[e] = element_energy(e, x, true, true, gradient ? &gradients[e] : nullptr, hessian ? &hessians[e] : nullptr, kind);
-  }
+  // Elements in colours: two elements of one colour share no control (their spans are p + 1
+  // apart in u or in v), so a colour's elements add into the gradient and the Hessian at once.
+  const int eu_count = patch_.u().element_count(), ev_count = patch_.v().element_count();
+  const int stride = patch_.degree() + 1;
   double energy = 0;
-  for (int e = 0; e < elements; ++e) {
-    energy += energies[e];
-    const std::vector<int>& controls = patch_.element_controls(e);
-    if (gradient) {
-      for (std::size_t k = 0; k < controls.size(); ++k) gradient->segment<3>(3 * controls[k]) += gradients[e].segment<3>(3 * k);
+  for (int colour = 0; colour < stride * stride; ++colour) {
+    const int cu = colour % stride, cv = colour / stride;
+    const int nu = (eu_count - cu + stride - 1) / stride, nv = (ev_count - cv + stride - 1) / stride;
+    const int count = std::max(0, nu) * std::max(0, nv);
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : energy)
+    for (int k = 0; k < count; ++k) {
+      const int e = (cv + stride * (k / nu)) * eu_count + cu + stride * (k % nu);
+      Eigen::VectorXd g;
+      Eigen::MatrixXd H;
+      energy += element_energy(e, x, true, true, gradient ? &g : nullptr, hessian ? &H : nullptr, kind);
+      const std::vector<int>& controls = patch_.element_controls(e);
+      if (gradient) {
+        for (std::size_t j = 0; j < controls.size(); ++j) gradient->segment<3>(3 * controls[j]) += g.segment<3>(3 * j);
+      }
+      if (hessian) hessian->add(controls, H);
     }
-    if (hessian) hessian->add(controls, hessians[e]);
   }
   for (int c = 0; c < patch_.control_count(); ++c) {
     const double weight_N = mass_kg_[c] * real_sheet::kGravity_m_s2;

@@ -1,0 +1,49 @@
+#pragma once
+// The scanner lab's handling of the reference sheet through a trial's stages, as the lab's
+// plate is handled (sim_hw/real_sheet/stage_path.h, the same protocol): the sheet lies flat and
+// level (placed so its clamps' material points best fit their stage-1 positions); the jaws close
+// on it there and it is let go into gravity (an overdamped fall: the damped Newton method's
+// pseudo-time); the jaws then travel to each stage's poses in increments, each solved to
+// equilibrium from a secant predictor; a jaw that opens lets the sheet fall again; a jaw that
+// closes later takes the sheet as it hangs, in the sheet's own frame there. With creep, moves
+// are made on the fresh material and the stage is then solved again at its age.
+// The path is followed on one patch; carry_to_patch puts a stage onto a finer one (exact knot
+// insertion, then re-equilibrated), so a refinement study compares levels on one branch.
+
+#include <string>
+#include <vector>
+
+#include "sim_hw/real_sheet/stage_path.h"  // PathStage, level_placement
+#include "sim_hw/spline_shell/shell_equilibrium.h"
+#include "twin/model/clamp.h"
+
+namespace sim_hw::spline_shell {
+
+struct ShellPathOptions {
+  double increment_m = 0.02;  // largest jaw travel per solved increment
+  ShellSolveOptions solve;    // per increment
+  double fall_damping_1_s2 = 1e4;
+};
+
+struct ShellPathResult {
+  std::vector<VecX> stages;        // equilibrium controls per stage reached
+  std::vector<ShellHolds> holds;   // per stage, the jaws holding and their poses
+  std::vector<ShellSolveReport> reports;
+  int increments = 0, iterations = 0, factorizations = 0;
+  std::string failure;  // "stage 3: ..." when a stage was not reached
+  bool usable() const { return failure.empty(); }
+};
+
+// The clamps' square jaws (clamp order). Throws std::invalid_argument as square_jaw does.
+std::vector<SquareJaw> clamp_jaws(const std::vector<twin::ClampSpec>& clamps, double width_m, double height_m);
+
+ShellPathResult follow_path(ShellModel& model, const std::vector<SquareJaw>& jaws,
+                            const std::vector<real_sheet::PathStage>& stages, const ShellPathOptions& options = {});
+
+// A stage's equilibrium x on `from` carried onto `to` (whose knots refine from's) and solved
+// there with the same holds. `to` must be at the stage's age. Throws std::runtime_error when the
+// solve does not converge.
+VecX carry_to_patch(const ShellModel& from, const VecX& x, const ShellHolds& holds, const ShellModel& to,
+                    const ShellPathOptions& options = {}, ShellSolveReport* report = nullptr);
+
+}  // namespace sim_hw::spline_shell

@@ -1,0 +1,151 @@
+// reference_refinement: the convergence study of the reference sheet (issue 54,
+// docs/reference_sheet.md): a Kirchhoff-Love shell on B-splines (sim_hw/spline_shell). Follows
+// one lab trial's clamp path (specimen, seed: protocol, stage times, hidden effect) on the
+// coarsest level, carries every stage up through the levels (each span bisected, the shape
+// carried exactly by knot insertion and solved again, so every level stays on the path's
+// branch), and prints per stage how far the markers a scan sees move between levels, the
+// observed order and a Richardson estimate of the finest level's own error (with Roache's GCI,
+// safety factor 1.25).
+//   reference_refinement --specimen composite --seed 1 --levels 3
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "sim_hw/scanner_lab.h"
+#include "sim_hw/spline_shell/shell_path.h"
+
+namespace ss = sim_hw::spline_shell;
+namespace rs = sim_hw::real_sheet;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
+  sim_hw::ScannerLabConfig config;
+  int levels = 3, degree = 3;
+  double span_m = 0.04, fine_span_m = 0.01;
+  app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
+  app.add_option("--seed", config.seed, "the lab trial's seed");
+  app.add_option("--levels", levels, "refinement levels (each bisects every span of the one before)")->check(CLI::Range(2, 6));
+  app.add_option("--degree", degree, "spline degree")->check(CLI::Range(2, 4));
+  app.add_option("--span-m", span_m, "the coarsest level's largest span (m)");
+  app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const sim_hw::LabSetup setup = sim_hw::lab_setup(config);
+    const double w = setup.specimen.width_m, h = setup.specimen.height_m;
+    rs::SheetMaterial material = rs::sheet_material_from(setup.truth);
+    for (const sim_hw::Crease& c : config.creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
+    const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(setup.trial.clamps, w, h);
+    std::vector<rs::PathStage> stages(setup.stages.size());
+    std::vector<double> ages(setup.stages.size(), 0.0);
+    for (std::size_t k = 0; k < setup.stages.size(); ++k) {
+      stages[k].poses = setup.stages[k].poses;
+      if (setup.stages[k].time_s && setup.stages[k].clamps_moved_at_s) {
+        stages[k].age_s = *setup.stages[k].time_s - *setup.stages[k].clamps_moved_at_s;
+      }
+      ages[k] = material.creep_fraction > 0 ? stages[k].age_s : 0.0;
+    }
+    ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m);
+    ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m);
+    auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
+    auto t = std::chrono::steady_clock::now();
+    const ss::ShellPathResult path = ss::follow_path(*model, jaws, stages);
+    if (!path.usable()) throw std::runtime_error("the path failed at " + path.failure);
+    fmt::print("level 0: {} x {} controls (degree {}, spans {:.1f}-{:.1f} mm), path: {} increments, {} Newton "
+               "iterations, {:.0f} s\n", model->patch().nu(), model->patch().nv(), degree, 1e3 * fine_span_m, 1e3 * span_m,
+               path.increments, path.iterations, seconds_since(t));
+    std::fflush(stdout);
+    std::vector<std::vector<std::vector<ss::Vec3>>> markers;  // level, stage, marker
+    std::vector<ss::VecX> x = path.stages;
+    const auto record = [&](const ss::ShellModel& m, const std::vector<ss::VecX>& states) {
+      std::vector<std::vector<ss::Vec3>> per_stage;
+      for (const ss::VecX& s : states) per_stage.push_back(m.marker_positions(s));
+      markers.push_back(std::move(per_stage));
+    };
+    record(*model, x);
+    for (int level = 1; level < levels; ++level) {
+      t = std::chrono::steady_clock::now();
+      ku = ss::refined(ku), kv = ss::refined(kv);
+      auto finer = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
+      std::vector<ss::VecX> y;
+      int iterations = 0;
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        if (k > 0 && x[k] == x[k - 1] && ages[k] == ages[k - 1]) {  // a repeated scan of one pose
+          y.push_back(y.back());
+          continue;
+        }
+        model->set_age_s(ages[k]);
+        finer->set_age_s(ages[k]);
+        ss::ShellSolveReport report;
+        try {
+          y.push_back(ss::carry_to_patch(*model, x[k], path.holds[k], *finer, {}, &report));
+        } catch (const std::runtime_error& e) {
+          throw std::runtime_error(fmt::format("level {}, stage {}: {}", level, k + 1, e.what()));
+        }
+        iterations += report.iterations;
+      }
+      fmt::print("level {}: {} x {} controls, {} Newton iterations, {:.0f} s\n", level, finer->patch().nu(),
+                 finer->patch().nv(), iterations, seconds_since(t));
+      std::fflush(stdout);
+      record(*finer, y);
+      x = std::move(y);
+      model = std::move(finer);
+    }
+    // Markers a scan sees: not within the jaw radius of a closed clamp.
+    const auto seen = [&](std::size_t s, std::size_t m) {
+      for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
+        if (setup.stages[s].poses[c].engaged &&
+            (setup.trial.marker_uv_m[m] - setup.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m) {
+          return false;
+        }
+      }
+      return true;
+    };
+    fmt::print("\n{} seed {}: seen markers' change between levels, mm, mean / max per stage; observed order and the "
+               "finest level's estimated error (Richardson, GCI = 1.25 x)\n", config.specimen, config.seed);
+    for (std::size_t s = 0; s < x.size(); ++s) {
+      std::vector<double> mean, max;
+      for (int l = 0; l + 1 < levels; ++l) {
+        double sum = 0, worst = 0;
+        int n = 0;
+        for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) {
+          if (!seen(s, m)) continue;
+          const double d = (markers[l][s][m] - markers[l + 1][s][m]).norm();
+          sum += d, worst = std::max(worst, d), ++n;
+        }
+        mean.push_back(sum / std::max(n, 1));
+        max.push_back(worst);
+      }
+      std::string line = fmt::format("stage {}:", s + 1);
+      for (std::size_t l = 0; l < mean.size(); ++l) line += fmt::format("  {}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * mean[l], 1e3 * max[l]);
+      if (mean.size() >= 2) {
+        const double a = mean[mean.size() - 2], b = mean.back();
+        const double order = std::log2(a / b);
+        const double error = order > 0.2 ? b / (std::pow(2.0, order) - 1.0) : std::numeric_limits<double>::quiet_NaN();
+        line += fmt::format("  | order {:.2f}, finest error {:.3f} mm (GCI {:.3f})", order, 1e3 * error, 1.25e3 * error);
+      }
+      fmt::print("{}\n", line);
+    }
+    fmt::print("({:.0f} s in all)\n", seconds_since(start));
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reference_refinement: %s\n", e.what());
+    return 2;
+  }
+}
