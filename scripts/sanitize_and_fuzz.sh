@@ -15,8 +15,9 @@ cd "$(dirname "$0")/.."
 #    they would (docs/tests_and_ci.md).
 #    Tested here: the twin (with its optional effects), the independent sheet (sim_hw/real_sheet),
 #    the reference sheet (sim_hw/spline_shell), the drivers (config, frame monitor, V4L2 back-end
-#    over its in-process emulation, session recording, LCM bus, iiwa kinematics), the simulated D415, the fake world (arms, grippers,
-#    true sheet, a memq run with emulated cameras), the marker pipeline and the sheet tracker
+#    over its in-process emulation, session recording, LCM bus, iiwa kinematics), the simulated
+#    D415, the fake world (arms, grippers, true sheet, a memq run with emulated cameras), the
+#    marker pipeline and the sheet tracker
 #    (also on simulated D415s), the cell controller (label cell: start-up, configs, pacing,
 #    workers, calibration monitor, settled states from a log), the terminal monitor and log tools,
 #    grasp planning, and `twin batch` (manifests, several small diagnoses, resuming).
