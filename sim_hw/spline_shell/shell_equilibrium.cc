@@ -1,7 +1,9 @@
 #include "sim_hw/spline_shell/shell_equilibrium.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "sim_hw/real_sheet/cholesky.h"
 
@@ -25,6 +27,30 @@ Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, cons
   Vec3 f = Vec3::Zero();
   for (int c : held) f -= g.segment<3>(3 * c);
   return f;
+}
+
+double lowest_eigenvalue_1_s2(const ShellModel& model, const ShellHolds& holds, const VecX& x, int iterations) {
+  VecX y = x;
+  std::vector<char> fixed(model.patch().control_count(), 0);
+  for (int c : apply_holds(model, holds, y)) fixed[c] = 1;
+  BlockSparseMatrix H = model.hessian_pattern();
+  model.energy(y, nullptr, &H, Hessian::kExact);
+  H.fix_blocks(fixed);
+  real_sheet::Cholesky cholesky;
+  if (!cholesky.factorize(H)) return std::numeric_limits<double>::quiet_NaN();
+  VecX m(model.dof_count());
+  for (int c = 0; c < model.patch().control_count(); ++c) m.segment<3>(3 * c).setConstant(fixed[c] ? 0.0 : model.control_mass_kg()[c]);
+  // Inverse iteration v <- H^-1 M v from a fixed, rough start; lambda = v.Mv / v.M H^-1 M v.
+  VecX v = VecX::Ones(model.dof_count());
+  for (int i = 0; i < v.size(); ++i) v[i] += 0.5 * std::sin(1.7 * i);
+  double lambda = 0;
+  for (int k = 0; k < iterations; ++k) {
+    const VecX Mv = m.cwiseProduct(v);
+    const VecX w = cholesky.solve(Mv);
+    lambda = v.dot(Mv) / w.dot(Mv);
+    v = w / std::sqrt(w.dot(m.cwiseProduct(w)));
+  }
+  return lambda;
 }
 
 namespace {

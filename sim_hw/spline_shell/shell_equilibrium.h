@@ -46,6 +46,13 @@ std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, V
 ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, VecX& x,
                              const ShellSolveOptions& options = {});
 
+// How stable an equilibrium is: the lowest eigenvalue lambda (1/s^2) of H v = lambda M v over
+// the free controls (H the exact Hessian, M the controls' masses): the square of the sheet's
+// lowest natural angular frequency about x, found by inverse iteration on H's Cholesky factor.
+// NaN when H is not positive definite there (x is no stable equilibrium). A branch that is about
+// to fold shows as lambda falling towards zero.
+double lowest_eigenvalue_1_s2(const ShellModel& model, const ShellHolds& holds, const VecX& x, int iterations = 60);
+
 // The force (N) the held controls exert on the sheet in equilibrium: minus the sum of the
 // energy's gradient over them (at a converged x, the free controls' gradient is zero).
 Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, const VecX& x);
