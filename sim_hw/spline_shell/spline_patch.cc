@@ -90,11 +90,6 @@ QuadraturePoint SplinePatch::point_in(int element, const Vec2& uv_m, double area
   return point;
 }
 
-std::pair<Vec2, Vec2> SplinePatch::element_box_m(int element) const {
-  const int eu = element % u_.element_count(), ev = element / u_.element_count();
-  return {Vec2(u_.breaks()[eu], v_.breaks()[ev]), Vec2(u_.breaks()[eu + 1], v_.breaks()[ev + 1])};
-}
-
 namespace {
 Vec3 combine(const VecX& x, const PointWeights& pw, int row) {
   Vec3 r = Vec3::Zero();

@@ -8,7 +8,6 @@
 // energies only combine control points.
 
 #include <functional>
-#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -63,10 +62,6 @@ class SplinePatch {
   int element_at(const Vec2& uv_m) const;
 
   PointWeights weights_at(const Vec2& uv_m) const;
-  // A quadrature point of `element` at uv_m (inside it) standing for area_m2 of the sheet.
-  QuadraturePoint point_in(int element, const Vec2& uv_m, double area_m2) const;
-  // The element's rectangle of material coordinates: (u0, v0) and (u1, v1).
-  std::pair<Vec2, Vec2> element_box_m(int element) const;
   Vec3 position(const VecX& x, const Vec2& uv_m) const;
   // Unit normal x_u x x_v / |x_u x x_v|.
   Vec3 normal(const VecX& x, const Vec2& uv_m) const;
@@ -81,6 +76,9 @@ class SplinePatch {
   VecX interpolate(const std::function<Vec3(const Vec2&)>& shape) const;
 
  private:
+  // A quadrature point of `element` at uv_m (inside it) standing for area_m2 of the sheet.
+  QuadraturePoint point_in(int element, const Vec2& uv_m, double area_m2) const;
+
   KnotVector u_, v_;
   std::vector<std::vector<int>> controls_;
   std::vector<std::vector<QuadraturePoint>> points_;
