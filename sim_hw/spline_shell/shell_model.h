@@ -57,6 +57,9 @@ class ShellModel {
  private:
   double element_energy(int element, const VecX& x, bool membrane, bool bending, Eigen::VectorXd* g,
                         Eigen::MatrixXd* H, Hessian kind) const;
+  template <int N>  // N = (p + 1)^2 controls per element
+  double element_energy_n(int element, const VecX& x, bool membrane, bool bending, Eigen::VectorXd* g,
+                          Eigen::MatrixXd* H, Hessian kind) const;
 
   SplinePatch patch_;
   SheetMaterial material_;
