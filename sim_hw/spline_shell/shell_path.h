@@ -40,6 +40,19 @@ std::vector<SquareJaw> clamp_jaws(const std::vector<twin::ClampSpec>& clamps, do
 ShellPathResult follow_path(ShellModel& model, const std::vector<SquareJaw>& jaws,
                             const std::vector<real_sheet::PathStage>& stages, const ShellPathOptions& options = {});
 
+// Whether the stage opens a jaw that held the sheet before it, or closes one that did not: the
+// sheet falls there (an overdamped motion whose end depends on the model, not a nearby
+// equilibrium to re-solve).
+bool lets_go(const ShellHolds& before, const real_sheet::PathStage& stage, const std::vector<SquareJaw>& jaws);
+
+// One stage of the protocol from an equilibrium x held by `holds` (the stage before it, on this
+// model): what follow_path does there, fall included. The stage's holds go to holds_after;
+// iterations and factorisations in report are the stage's whole. Throws std::runtime_error when
+// the stage is not reached, std::invalid_argument as follow_path.
+VecX replay_stage(ShellModel& model, const std::vector<SquareJaw>& jaws, const VecX& x, const ShellHolds& holds,
+                  const real_sheet::PathStage& stage, ShellHolds* holds_after = nullptr,
+                  const ShellPathOptions& options = {}, ShellSolveReport* report = nullptr);
+
 // A stage's equilibrium x on `from` carried onto `to` (whose knots refine from's) and solved
 // there with the same holds. `to` must be at the stage's age. Throws std::runtime_error when the
 // solve does not converge.

@@ -3,9 +3,11 @@
 // one lab trial's clamp path (specimen, seed: protocol, stage times, hidden effect) on the
 // coarsest level, carries every stage up through the levels (each span bisected, the shape
 // carried exactly by knot insertion and solved again, so every level stays on the path's
-// branch), and prints per stage how far the markers a scan sees move between levels, the
+// branch; a stage where a jaw opens or closes falls again on each level, from that level's
+// stage before), and prints per stage how far the markers a scan sees move between levels, the
 // observed order and a Richardson estimate of the finest level's own error (with Roache's GCI,
-// safety factor 1.25).
+// safety factor 1.25), with each level's branch label (its folds) and lowest eigenvalue: levels
+// on different branches are reported as a flip, never as a change.
 //   reference_refinement --specimen composite --seed 1 --levels 3
 
 #include <CLI/CLI.hpp>
@@ -20,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "sim_hw/scanner_lab.h"
+#include "sim_hw/spline_shell/branch_label.h"
 #include "sim_hw/spline_shell/shell_path.h"
 
 namespace ss = sim_hw::spline_shell;
@@ -37,13 +40,16 @@ int main(int argc, char** argv) {
   CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
-  double span_m = 0.04, fine_span_m = 0.01;
+  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.03;
+  ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
   app.add_option("--seed", config.seed, "the lab trial's seed");
   app.add_option("--levels", levels, "refinement levels (each bisects every span of the one before)")->check(CLI::Range(2, 6));
   app.add_option("--degree", degree, "spline degree")->check(CLI::Range(2, 4));
   app.add_option("--span-m", span_m, "the coarsest level's largest span (m)");
   app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m)");
+  app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
+  app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: every fold's centre within this of its match");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -72,39 +78,76 @@ int main(int argc, char** argv) {
                path.increments, path.iterations, seconds_since(t));
     std::fflush(stdout);
     std::vector<std::vector<std::vector<ss::Vec3>>> markers;  // level, stage, marker
+    std::vector<std::vector<ss::BranchLabel>> labels;           // level, stage
+    std::vector<std::vector<double>> lowest_1_s2;               // level, stage
     std::vector<ss::VecX> x = path.stages;
-    const auto record = [&](const ss::ShellModel& m, const std::vector<ss::VecX>& states) {
+    std::vector<ss::ShellHolds> holds = path.holds;
+    const auto record = [&](ss::ShellModel& m, const std::vector<ss::VecX>& states, const std::vector<ss::ShellHolds>& h) {
       std::vector<std::vector<ss::Vec3>> per_stage;
-      for (const ss::VecX& s : states) per_stage.push_back(m.marker_positions(s));
+      std::vector<ss::BranchLabel> label;
+      std::vector<double> lambda;
+      for (std::size_t k = 0; k < states.size(); ++k) {
+        per_stage.push_back(m.marker_positions(states[k]));
+        label.push_back(ss::branch_label(m.patch(), states[k], folds));
+        m.set_age_s(ages[k]);
+        lambda.push_back(ss::lowest_eigenvalue_1_s2(m, h[k], states[k]));
+      }
       markers.push_back(std::move(per_stage));
+      labels.push_back(std::move(label));
+      lowest_1_s2.push_back(std::move(lambda));
     };
-    record(*model, x);
+    record(*model, x, holds);
     for (int level = 1; level < levels; ++level) {
       t = std::chrono::steady_clock::now();
       ku = ss::refined(ku), kv = ss::refined(kv);
       auto finer = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
       std::vector<ss::VecX> y;
+      std::vector<ss::ShellHolds> finer_holds;
       int iterations = 0;
+      std::string replayed;
       for (std::size_t k = 0; k < x.size(); ++k) {
         if (k > 0 && x[k] == x[k - 1] && ages[k] == ages[k - 1]) {  // a repeated scan of one pose
           y.push_back(y.back());
+          finer_holds.push_back(finer_holds.back());
           continue;
         }
-        model->set_age_s(ages[k]);
-        finer->set_age_s(ages[k]);
         ss::ShellSolveReport report;
         try {
-          y.push_back(ss::carry_to_patch(*model, x[k], path.holds[k], *finer, {}, &report));
+          if (k > 0 && ss::lets_go(finer_holds.back(), stages[k], jaws)) {
+            // A jaw opens or closes: the sheet falls on this level's own physics, from this
+            // level's stage before.
+            ss::ShellHolds after;
+            y.push_back(ss::replay_stage(*finer, jaws, y.back(), finer_holds.back(), stages[k], &after, {}, &report));
+            finer_holds.push_back(after);
+            replayed += fmt::format("{}{}", replayed.empty() ? "" : ", ", k + 1);
+          } else {
+            // The coarser level's equilibrium, exactly on the finer patch, solved again; a jaw
+            // that closed on the hanging sheet keeps the frame it took on this level.
+            ss::ShellHolds h = holds[k];
+            if (k > 0) {
+              for (ss::JawHold& j : h.jaws) {
+                for (const ss::JawHold& before : finer_holds.back().jaws) {
+                  if (before.jaw.id == j.jaw.id) j.rotation = before.rotation;
+                }
+              }
+            }
+            model->set_age_s(ages[k]);
+            finer->set_age_s(ages[k]);
+            y.push_back(ss::carry_to_patch(*model, x[k], h, *finer, {}, &report));
+            finer_holds.push_back(h);
+          }
         } catch (const std::runtime_error& e) {
           throw std::runtime_error(fmt::format("level {}, stage {}: {}", level, k + 1, e.what()));
         }
         iterations += report.iterations;
       }
-      fmt::print("level {}: {} x {} controls, {} Newton iterations, {:.0f} s\n", level, finer->patch().nu(),
-                 finer->patch().nv(), iterations, seconds_since(t));
+      fmt::print("level {}: {} x {} controls, {} Newton iterations, {:.0f} s{}\n", level, finer->patch().nu(),
+                 finer->patch().nv(), iterations, seconds_since(t),
+                 replayed.empty() ? "" : fmt::format(" (stage {} let go and fell again on this level)", replayed));
       std::fflush(stdout);
-      record(*finer, y);
+      record(*finer, y, finer_holds);
       x = std::move(y);
+      holds = std::move(finer_holds);
       model = std::move(finer);
     }
     // Markers a scan sees: not within the jaw radius of a closed clamp.
@@ -117,10 +160,13 @@ int main(int argc, char** argv) {
       }
       return true;
     };
-    fmt::print("\n{} seed {}: seen markers' change between levels, mm, mean / max per stage; observed order and the "
-               "finest level's estimated error (Richardson, GCI = 1.25 x)\n", config.specimen, config.seed);
+    fmt::print("\n{} seed {}: seen markers' change between levels, mm, mean / max per stage, on matching branches; "
+               "observed order and the finest level's estimated error (Richardson, GCI = 1.25 x)\n", config.specimen,
+               config.seed);
     for (std::size_t s = 0; s < x.size(); ++s) {
       std::vector<double> mean, max;
+      std::vector<bool> matched;
+      std::string line = fmt::format("stage {}:", s + 1);
       for (int l = 0; l + 1 < levels; ++l) {
         double sum = 0, worst = 0;
         int n = 0;
@@ -131,16 +177,24 @@ int main(int argc, char** argv) {
         }
         mean.push_back(sum / std::max(n, 1));
         max.push_back(worst);
+        std::string why;
+        matched.push_back(ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, &why));
+        line += matched.back() ? fmt::format("  {}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * mean.back(), 1e3 * max.back())
+                               : fmt::format("  {}->{} BRANCH FLIP ({}; markers {:.1f} / {:.1f})", l, l + 1, why,
+                                             1e3 * mean.back(), 1e3 * max.back());
       }
-      std::string line = fmt::format("stage {}:", s + 1);
-      for (std::size_t l = 0; l < mean.size(); ++l) line += fmt::format("  {}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * mean[l], 1e3 * max[l]);
-      if (mean.size() >= 2) {
+      if (mean.size() >= 2 && matched[matched.size() - 2] && matched.back()) {
         const double a = mean[mean.size() - 2], b = mean.back();
         const double order = std::log2(a / b);
         const double error = order > 0.2 ? b / (std::pow(2.0, order) - 1.0) : std::numeric_limits<double>::quiet_NaN();
         line += fmt::format("  | order {:.2f}, finest error {:.3f} mm (GCI {:.3f})", order, 1e3 * error, 1.25e3 * error);
+      } else if (mean.size() >= 2) {
+        line += "  | no order: the two finest comparisons are not on one branch";
       }
       fmt::print("{}\n", line);
+      std::string lambdas;
+      for (int l = 0; l < levels; ++l) lambdas += fmt::format("{}{:.3g}", l ? " / " : "", lowest_1_s2[l][s]);
+      fmt::print("         finest branch: {}; lowest eigenvalue per level {} 1/s^2\n", labels.back()[s].text(), lambdas);
     }
     fmt::print("({:.0f} s in all)\n", seconds_since(start));
     return 0;

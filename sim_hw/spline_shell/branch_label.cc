@@ -1,0 +1,116 @@
+#include "sim_hw/spline_shell/branch_label.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+namespace sim_hw::spline_shell {
+namespace {
+
+// The signed principal curvature of largest magnitude (1/m) at a material point: the shape
+// operator I^-1 II from the first and second fundamental forms.
+double dominant_curvature_1_m(const SplinePatch& patch, const VecX& x, const Vec2& uv) {
+  const PointWeights pw = patch.weights_at(uv);
+  Vec3 d[6];
+  for (Vec3& v : d) v.setZero();
+  for (std::size_t k = 0; k < pw.controls.size(); ++k) {
+    for (int r = 0; r < 6; ++r) d[r] += pw.w(r, k) * x.segment<3>(3 * pw.controls[k]);
+  }
+  const Vec3 n = d[kU].cross(d[kV]).normalized();
+  Eigen::Matrix2d I, II;
+  I << d[kU].dot(d[kU]), d[kU].dot(d[kV]), d[kU].dot(d[kV]), d[kV].dot(d[kV]);
+  II << d[kUU].dot(n), d[kUV].dot(n), d[kUV].dot(n), d[kVV].dot(n);
+  const Eigen::Vector2cd k = (I.inverse() * II).eigenvalues();  // real: I, II symmetric, I positive definite
+  return std::abs(k[0].real()) >= std::abs(k[1].real()) ? k[0].real() : k[1].real();
+}
+
+}  // namespace
+
+std::string BranchLabel::text() const {
+  if (folds.empty()) return "no fold";
+  std::string s = fmt::format("{} fold{}:", folds.size(), folds.size() == 1 ? "" : "s");
+  for (std::size_t i = 0; i < folds.size(); ++i) {
+    const Fold& f = folds[i];
+    s += fmt::format("{} {}({:.0f}, {:.0f}) mm {:.0f} cm^2", i ? "," : "", f.sign > 0 ? '+' : '-', 1e3 * f.centre_m.x(),
+                     1e3 * f.centre_m.y(), 1e4 * f.area_m2);
+  }
+  return s;
+}
+
+BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOptions& options) {
+  const int nu = std::max(2, static_cast<int>(std::round(patch.width_m() / options.sample_m)));
+  const int nv = std::max(2, static_cast<int>(std::round(patch.height_m() / options.sample_m)));
+  const double du = patch.width_m() / nu, dv = patch.height_m() / nv;
+  // Cell centres of an nu x nv grid over the material sheet.
+  std::vector<double> kappa(static_cast<std::size_t>(nu) * nv);
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) kappa[j * nu + i] = dominant_curvature_1_m(patch, x, Vec2((i + 0.5) * du, (j + 0.5) * dv));
+  }
+  const double core = 1.0 / options.fold_radius_m, rim = 0.5 * core;
+  std::vector<char> taken(kappa.size(), 0);
+  BranchLabel label;
+  std::vector<int> stack;
+  for (int start = 0; start < static_cast<int>(kappa.size()); ++start) {
+    if (taken[start] || std::abs(kappa[start]) < core) continue;
+    const int sign = kappa[start] > 0 ? 1 : -1;
+    Fold fold;
+    fold.sign = sign;
+    Vec2 sum = Vec2::Zero();
+    int cells = 0;
+    stack.assign(1, start);
+    taken[start] = 1;
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      const int i = c % nu, j = c / nu;
+      sum += Vec2((i + 0.5) * du, (j + 0.5) * dv);
+      ++cells;
+      fold.peak_curvature_1_m = std::max(fold.peak_curvature_1_m, std::abs(kappa[c]));
+      const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+      for (const auto& nb : neighbours) {
+        if (nb[0] < 0 || nb[0] >= nu || nb[1] < 0 || nb[1] >= nv) continue;
+        const int m = nb[1] * nu + nb[0];
+        if (!taken[m] && sign * kappa[m] >= rim) {
+          taken[m] = 1;
+          stack.push_back(m);
+        }
+      }
+    }
+    fold.area_m2 = cells * du * dv;
+    fold.centre_m = sum / cells;
+    if (fold.area_m2 >= options.least_area_m2) label.folds.push_back(fold);
+  }
+  std::sort(label.folds.begin(), label.folds.end(), [](const Fold& a, const Fold& b) { return a.area_m2 > b.area_m2; });
+  return label;
+}
+
+bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, std::string* why) {
+  const auto differ = [&](std::string reason) {
+    if (why) *why = std::move(reason);
+    return false;
+  };
+  if (a.folds.size() != b.folds.size()) {
+    return differ(fmt::format("{} folds against {}", a.folds.size(), b.folds.size()));
+  }
+  // Greedy, largest first: each fold of a takes the nearest free fold of b of its sign.
+  std::vector<char> used(b.folds.size(), 0);
+  for (const Fold& f : a.folds) {
+    int best = -1;
+    double best_m = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < b.folds.size(); ++k) {
+      const double d = (b.folds[k].centre_m - f.centre_m).norm();
+      if (!used[k] && b.folds[k].sign == f.sign && d < best_m) best = static_cast<int>(k), best_m = d;
+    }
+    if (best < 0 || best_m > tolerance_m) {
+      return differ(fmt::format("the {}fold at ({:.0f}, {:.0f}) mm has no match within {:.0f} mm", f.sign > 0 ? "+" : "-",
+                                1e3 * f.centre_m.x(), 1e3 * f.centre_m.y(), 1e3 * tolerance_m));
+    }
+    used[best] = 1;
+  }
+  return true;
+}
+
+}  // namespace sim_hw::spline_shell

@@ -1,0 +1,48 @@
+// The lab's protocol on the shell, stage by stage: a stage that opens a jaw is recognised as a
+// fall, and replaying one stage from the equilibrium before it reaches what the whole path
+// reached there (so a refinement study can let each level fall on its own physics).
+
+#include <catch2/catch.hpp>
+
+#include "sim_hw/spline_shell/shell_path.h"
+#include "tests/sim_hw/spline_shell/shell_fixtures.h"
+
+namespace ss = sim_hw::spline_shell;
+
+TEST_CASE("spline shell: a replayed stage reaches what the path reached", "[spline_shell][path]") {
+  const double W = 0.3, H = 0.25;
+  const std::vector<ss::SquareJaw> jaws = {ss::square_jaw("A", ss::Vec2(0.05, 0.21), 0.015, W, H),
+                                           ss::square_jaw("B", ss::Vec2(0.25, 0.21), 0.015, W, H)};
+  ss::ShellModel model(ss::SplinePatch(ss::jaw_knots(3, W, 0, jaws, 0.06, 0.015), ss::jaw_knots(3, H, 1, jaws, 0.06, 0.015)),
+                       shell_fixtures::composite());
+  const auto pose = [](double x, double z, bool engaged) {
+    twin::ClampPose p;
+    p.position_m = ss::Vec3(x, 0.0, z);
+    p.engaged = engaged;
+    return p;
+  };
+  std::vector<sim_hw::real_sheet::PathStage> stages(3);
+  stages[0].poses = {pose(0.05, 0.5, true), pose(0.25, 0.5, true)};   // gripped level, let go
+  stages[1].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, true)};   // B moves 4 cm in: a sag
+  stages[2].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, false)};  // B opens: the side falls
+  const ss::ShellPathResult path = ss::follow_path(model, jaws, stages);
+  INFO(path.failure);
+  REQUIRE(path.usable());
+  REQUIRE(path.stages.size() == 3);
+  CHECK_FALSE(ss::lets_go(path.holds[0], stages[1], jaws));
+  CHECK(ss::lets_go(path.holds[1], stages[2], jaws));
+  CHECK(path.holds[2].jaws.size() == 1);
+
+  ss::ShellHolds after;
+  ss::ShellSolveReport report;
+  const ss::VecX replayed = ss::replay_stage(model, jaws, path.stages[1], path.holds[1], stages[2], &after, {}, &report);
+  CHECK(report.converged);
+  CHECK(report.iterations > 0);
+  CHECK((replayed - path.stages[2]).lpNorm<Eigen::Infinity>() < 1e-12);
+  REQUIRE(after.jaws.size() == 1);
+  CHECK(after.jaws[0].jaw.id == "A");
+  // It fell: the side B held is now well below where B let it go.
+  const ss::Vec3 b_before = model.patch().position(path.stages[1], jaws[1].material_point_m);
+  const ss::Vec3 b_after = model.patch().position(replayed, jaws[1].material_point_m);
+  CHECK(b_after.z() < b_before.z() - 0.05);
+}
