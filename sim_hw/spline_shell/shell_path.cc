@@ -226,4 +226,51 @@ VecX carry_to_patch(const ShellModel& from, const VecX& x, const ShellHolds& hol
   return y;
 }
 
+double stage_age_s(const ShellModel& model, const real_sheet::PathStage& stage) {
+  return model.material().creep_fraction > 0 ? stage.age_s : 0.0;
+}
+
+CarriedPath carry_path(ShellModel& from, const std::vector<VecX>& x, const std::vector<ShellHolds>& holds, ShellModel& to,
+                       const std::vector<SquareJaw>& jaws, const std::vector<real_sheet::PathStage>& stages,
+                       const ShellPathOptions& options) {
+  if (x.size() != stages.size() || holds.size() != stages.size()) {
+    throw std::invalid_argument("spline shell: carry_path needs one state and one hold per stage");
+  }
+  CarriedPath out;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const double age_s = stage_age_s(from, stages[k]);
+    if (k > 0 && x[k] == x[k - 1] && age_s == stage_age_s(from, stages[k - 1])) {  // a repeated scan of one pose
+      out.stages.push_back(out.stages.back());
+      out.holds.push_back(out.holds.back());
+      continue;
+    }
+    ShellSolveReport report;
+    try {
+      if (k > 0 && lets_go(out.holds.back(), stages[k], jaws)) {
+        ShellHolds after;
+        out.stages.push_back(replay_stage(to, jaws, out.stages.back(), out.holds.back(), stages[k], &after, options, &report));
+        out.holds.push_back(after);
+        out.replayed.push_back(static_cast<int>(k));
+      } else {
+        ShellHolds h = holds[k];
+        if (k > 0) {
+          for (JawHold& j : h.jaws) {
+            for (const JawHold& before : out.holds.back().jaws) {
+              if (before.jaw.id == j.jaw.id) j.rotation = before.rotation;
+            }
+          }
+        }
+        from.set_age_s(age_s);
+        to.set_age_s(age_s);
+        out.stages.push_back(carry_to_patch(from, x[k], h, to, options, &report));
+        out.holds.push_back(h);
+      }
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("stage {}: {}", k + 1, e.what()));
+    }
+    out.iterations += report.iterations;
+  }
+  return out;
+}
+
 }  // namespace sim_hw::spline_shell

@@ -59,4 +59,22 @@ VecX replay_stage(ShellModel& model, const std::vector<SquareJaw>& jaws, const V
 VecX carry_to_patch(const ShellModel& from, const VecX& x, const ShellHolds& holds, const ShellModel& to,
                     const ShellPathOptions& options = {}, ShellSolveReport* report = nullptr);
 
+// A path's stages (x, holds: follow_path's or a coarser carry's) put onto a finer patch, in
+// order: a stage where a jaw opens or closes (lets_go) falls again on `to` from the stage before
+// it there (replay_stage); every other is carried exactly (carry_to_patch), its jaws keeping the
+// frames they took on `to`. Repeated scans of one pose stay one state. Stage ages come from
+// `stages` (with creep). Throws std::runtime_error naming the stage that did not settle.
+struct CarriedPath {
+  std::vector<VecX> stages;
+  std::vector<ShellHolds> holds;
+  std::vector<int> replayed;  // stages (0-based) that fell again on the finer patch
+  int iterations = 0;
+};
+CarriedPath carry_path(ShellModel& from, const std::vector<VecX>& x, const std::vector<ShellHolds>& holds, ShellModel& to,
+                       const std::vector<SquareJaw>& jaws, const std::vector<real_sheet::PathStage>& stages,
+                       const ShellPathOptions& options = {});
+
+// The age a stage's equilibrium is solved at: its own with creep, 0 (fresh) without.
+double stage_age_s(const ShellModel& model, const real_sheet::PathStage& stage);
+
 }  // namespace sim_hw::spline_shell

@@ -59,13 +59,11 @@ int main(int argc, char** argv) {
     for (const sim_hw::Crease& c : config.creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
     const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(setup.trial.clamps, w, h);
     std::vector<rs::PathStage> stages(setup.stages.size());
-    std::vector<double> ages(setup.stages.size(), 0.0);
     for (std::size_t k = 0; k < setup.stages.size(); ++k) {
       stages[k].poses = setup.stages[k].poses;
       if (setup.stages[k].time_s && setup.stages[k].clamps_moved_at_s) {
         stages[k].age_s = *setup.stages[k].time_s - *setup.stages[k].clamps_moved_at_s;
       }
-      ages[k] = material.creep_fraction > 0 ? stages[k].age_s : 0.0;
     }
     ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m);
     ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m);
@@ -89,7 +87,7 @@ int main(int argc, char** argv) {
       for (std::size_t k = 0; k < states.size(); ++k) {
         per_stage.push_back(m.marker_positions(states[k]));
         label.push_back(ss::branch_label(m.patch(), states[k], folds));
-        m.set_age_s(ages[k]);
+        m.set_age_s(ss::stage_age_s(m, stages[k]));
         lambda.push_back(ss::lowest_eigenvalue_1_s2(m, h[k], states[k]));
       }
       markers.push_back(std::move(per_stage));
@@ -101,53 +99,21 @@ int main(int argc, char** argv) {
       t = std::chrono::steady_clock::now();
       ku = ss::refined(ku), kv = ss::refined(kv);
       auto finer = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
-      std::vector<ss::VecX> y;
-      std::vector<ss::ShellHolds> finer_holds;
-      int iterations = 0;
-      std::string replayed;
-      for (std::size_t k = 0; k < x.size(); ++k) {
-        if (k > 0 && x[k] == x[k - 1] && ages[k] == ages[k - 1]) {  // a repeated scan of one pose
-          y.push_back(y.back());
-          finer_holds.push_back(finer_holds.back());
-          continue;
-        }
-        ss::ShellSolveReport report;
-        try {
-          if (k > 0 && ss::lets_go(finer_holds.back(), stages[k], jaws)) {
-            // A jaw opens or closes: the sheet falls on this level's own physics, from this
-            // level's stage before.
-            ss::ShellHolds after;
-            y.push_back(ss::replay_stage(*finer, jaws, y.back(), finer_holds.back(), stages[k], &after, {}, &report));
-            finer_holds.push_back(after);
-            replayed += fmt::format("{}{}", replayed.empty() ? "" : ", ", k + 1);
-          } else {
-            // The coarser level's equilibrium, exactly on the finer patch, solved again; a jaw
-            // that closed on the hanging sheet keeps the frame it took on this level.
-            ss::ShellHolds h = holds[k];
-            if (k > 0) {
-              for (ss::JawHold& j : h.jaws) {
-                for (const ss::JawHold& before : finer_holds.back().jaws) {
-                  if (before.jaw.id == j.jaw.id) j.rotation = before.rotation;
-                }
-              }
-            }
-            model->set_age_s(ages[k]);
-            finer->set_age_s(ages[k]);
-            y.push_back(ss::carry_to_patch(*model, x[k], h, *finer, {}, &report));
-            finer_holds.push_back(h);
-          }
-        } catch (const std::runtime_error& e) {
-          throw std::runtime_error(fmt::format("level {}, stage {}: {}", level, k + 1, e.what()));
-        }
-        iterations += report.iterations;
+      ss::CarriedPath carried;
+      try {
+        carried = ss::carry_path(*model, x, holds, *finer, jaws, stages);
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error(fmt::format("level {}, {}", level, e.what()));
       }
+      std::string replayed;
+      for (int k : carried.replayed) replayed += fmt::format("{}{}", replayed.empty() ? "" : ", ", k + 1);
       fmt::print("level {}: {} x {} controls, {} Newton iterations, {:.0f} s{}\n", level, finer->patch().nu(),
-                 finer->patch().nv(), iterations, seconds_since(t),
+                 finer->patch().nv(), carried.iterations, seconds_since(t),
                  replayed.empty() ? "" : fmt::format(" (stage {} let go and fell again on this level)", replayed));
       std::fflush(stdout);
-      record(*finer, y, finer_holds);
-      x = std::move(y);
-      holds = std::move(finer_holds);
+      record(*finer, carried.stages, carried.holds);
+      x = std::move(carried.stages);
+      holds = std::move(carried.holds);
       model = std::move(finer);
     }
     // Markers a scan sees: not within the jaw radius of a closed clamp.
