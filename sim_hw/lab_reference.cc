@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "sim_hw/real_sheet/stage_path.h"
+#include "sim_hw/shell_reference.h"
 #include "twin/mesh/material_point.h"
 #include "twin/mesh/mesh_refinement.h"
 #include "twin/model/shell_model.h"
@@ -204,10 +205,19 @@ twin::SheetMesh twin_reference_mesh(const ReferenceSheet& reference, double w, d
 TruthModel parse_truth_model(const std::string& name, const std::string& what) {
   if (name == "independent") return TruthModel::kIndependent;
   if (name == "twin") return TruthModel::kTwin;
-  throw std::invalid_argument(fmt::format("{}: '{}' is not a truth model (expected independent or twin)", what, name));
+  if (name == "spline_shell") return TruthModel::kSplineShell;
+  throw std::invalid_argument(
+      fmt::format("{}: '{}' is not a truth model (expected independent, twin or spline_shell)", what, name));
 }
 
-std::string to_string(TruthModel model) { return model == TruthModel::kTwin ? "twin" : "independent"; }
+std::string to_string(TruthModel model) {
+  switch (model) {
+    case TruthModel::kTwin: return "twin";
+    case TruthModel::kSplineShell: return "spline_shell";
+    case TruthModel::kIndependent: break;
+  }
+  return "independent";
+}
 
 real_sheet::JawKind parse_jaw_kind(const std::string& name, const std::string& what) {
   if (name == "rigid") return real_sheet::JawKind::kRigid;
@@ -273,9 +283,14 @@ ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::
                                    const std::vector<twin::ClampSpec>& clamps,
                                    const std::vector<twin::TrialStage>& stages,
                                    const std::vector<twin::Vec2>& marker_uv_m) {
-  return reference.model == TruthModel::kTwin
-             ? twin_reference(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m)
-             : independent_reference(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
+  switch (reference.model) {
+    case TruthModel::kTwin:
+      return twin_reference(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
+    case TruthModel::kSplineShell:
+      return shell_reference(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
+    case TruthModel::kIndependent: break;
+  }
+  return independent_reference(reference, truth, creases, width_m, height_m, clamps, stages, marker_uv_m);
 }
 
 }  // namespace sim_hw

@@ -1,8 +1,11 @@
 #pragma once
-// The scanner lab's "real" sheet, simulated through a trial's stages by one of two models:
+// The scanner lab's "real" sheet, simulated through a trial's stages by one of three models:
 //   independent (the default): sim_hw/real_sheet, physics that shares no mesh, energy or solver
-//     code with the twin (issue 33), on a graded grid whose distance from convergence
-//     is measured by `real_sheet_refinement` (docs/independent_sheet.md);
+//     code with the twin, on a graded grid whose distance from convergence is measured by
+//     `real_sheet_refinement` (docs/independent_sheet.md);
+//   spline_shell: the reference shell (sim_hw/spline_shell, shell_reference.h), the lab's
+//     material on B-splines, converging under refinement (`reference_refinement`,
+//     docs/reference_sheet.md);
 //   twin: the twin's own shell model on a reference mesh (the lab before issue 33; every figure
 //     against it is the twin scoring itself).
 // Either returns, per stage, the noise-free markers and the sheet's normal at each (for the raw
@@ -19,8 +22,8 @@
 
 namespace sim_hw {
 
-enum class TruthModel { kIndependent, kTwin };
-// "independent" | "twin"; throws std::invalid_argument naming `what` otherwise.
+enum class TruthModel { kIndependent, kTwin, kSplineShell };
+// "independent" | "twin" | "spline_shell"; throws std::invalid_argument naming `what` otherwise.
 TruthModel parse_truth_model(const std::string& name, const std::string& what);
 std::string to_string(TruthModel model);
 // "rigid" | "pivot"; throws std::invalid_argument naming `what` otherwise.
@@ -37,6 +40,11 @@ struct ReferenceSheet {
   double grid_spacing_m = 0;
   double path_grid_spacing_m = 0;
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
+  // Spline shell: degree, level 0's largest span and its span at the jaws' edges (m), and how
+  // many bisections above level 0 the markers are read on.
+  int shell_degree = 3;
+  double shell_span_m = 0.04, shell_jaw_span_m = 0.01;
+  int shell_levels = 1;
   // Twin model: its mesh (ScannerLabConfig's reference mesh settings).
   int triangles = 6000;
   bool resolve_jaws = true;

@@ -176,6 +176,7 @@ ReferenceSheet reference_sheet(const ScannerLabConfig& config) {
   sheet.resolve_jaws = config.reference_resolves_jaws;
   sheet.clamp_refinement_radii_m = config.reference_clamp_refinement_radii_m;
   sheet.path_grid_spacing_m = config.path_grid_spacing_m;
+  sheet.shell_levels = config.shell_levels;
   return sheet;
 }
 
@@ -332,6 +333,7 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
     j["grid_spacing_m"] = config.grid_spacing_m;
     j["jaws"] = to_string(config.jaws);
   }
+  if (config.truth_model == TruthModel::kSplineShell) j["shell_levels"] = config.shell_levels;
   j["reference_triangles"] = config.reference_triangles;
   j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
   j["reference_resolves_jaws"] = config.reference_resolves_jaws;

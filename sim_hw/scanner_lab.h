@@ -29,9 +29,11 @@ namespace sim_hw {
 struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
-  // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default)
-  // or the twin's own model (the lab before issue 33, for comparison).
+  // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default),
+  // the reference spline shell, or the twin's own model (for comparison: the twin scoring itself).
   TruthModel truth_model = TruthModel::kIndependent;
+  // Spline shell: bisections above its coarsest level (4 cm spans, 1 cm at the jaws).
+  int shell_levels = 1;
   // Independent model: the grid's largest spacing (m; 0: the default for the material)
   // and whether the jaws hold the sheet rigidly or let it turn about their centre.
   double grid_spacing_m = 0;

@@ -31,6 +31,11 @@ void read_physics(const JsonField& w, WorldConfig& c) {
       } catch (const std::invalid_argument&) {
         m->fail("must be \"independent\" (the plate model sharing nothing with the twin) or \"twin\"");
       }
+      // The reference shell solves settled states, minutes each: not a real-time world's sheet.
+      if (c.truth.model == TruthModel::kSplineShell) {
+        m->fail("must be \"independent\" or \"twin\" (the spline shell is the scanner lab's reference, not a real-time "
+                "sheet)");
+      }
     }
     c.truth.grid_spacing_m = optional_positive(*p, "grid_spacing_m", c.truth.grid_spacing_m, "m");
     if (c.dt_s > 0.1) (*p)["dt_s"].fail("must be at most 0.1 s (the world runs in real time)");

@@ -44,8 +44,12 @@ int main(int argc, char** argv) {
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
   std::string truth_model = "independent", jaws = "rigid";
   app.add_option("--truth-model", truth_model,
-                 "independent: the lab's own plate model, sharing nothing with the twin (default); twin: the "
-                 "twin's shell model (the lab before issue 33)");
+                 "independent: the lab's own plate model, sharing nothing with the twin (default); spline_shell: the "
+                 "reference shell on B-splines (docs/reference_sheet.md; minutes per trial); twin: the twin's shell "
+                 "model (the twin scoring itself)");
+  app.add_option("--shell-levels", config.shell_levels,
+                 "spline_shell: bisections above its coarsest level (4 cm spans, 1 cm at the jaws; default 1)")
+      ->check(CLI::Range(0, 3));
   app.add_option("--grid-spacing-m", config.grid_spacing_m,
                  "independent model: largest grid spacing (m; default: min(2 cm, 0.3 bending length))");
   app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m,
@@ -70,7 +74,7 @@ int main(int argc, char** argv) {
   blind_app->add_option("--out", blind_out, "directory for train_1, train_2, test_1")->required();
   blind_app->add_option("--truth", blind_truth, "directory for the hidden effect (not inside --out)")->required();
   std::string blind_truth_model = "independent", blind_jaws = "rigid";
-  blind_app->add_option("--truth-model", blind_truth_model, "independent (default) or twin, as for a trial");
+  blind_app->add_option("--truth-model", blind_truth_model, "independent (default), spline_shell or twin, as for a trial");
   blind_app->add_option("--grid-spacing-m", blind.grid_spacing_m, "independent model: largest grid spacing (m)");
   blind_app->add_option("--jaws", blind_jaws, "independent model: rigid (default) or pivot");
   blind_app->add_option("--triangles", blind.triangles, "twin model: triangles of the reference sheet (the twin's mesh)");

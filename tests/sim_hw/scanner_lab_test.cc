@@ -243,9 +243,50 @@ TEST_CASE("the independent truth follows the lab's protocol and says so", "[sim_
   CHECK_THAT(j.at("reference").get<std::string>(), Catch::Contains("grid"));
 }
 
+// The spline shell truth on a small sheet and coarse spans (seconds): two jaws lift it, one
+// lets go. The jaws' material points are where the stages put them, the markers and normals are
+// read on the level asked for, the released side falls, and the description says what made it.
+TEST_CASE("the spline shell truth holds the sheet where the clamps are and says so", "[sim_hw][lab]") {
+  ReferenceSheet reference;
+  reference.model = TruthModel::kSplineShell;
+  reference.shell_span_m = 0.06;
+  reference.shell_jaw_span_m = 0.015;
+  reference.shell_levels = 1;
+  const twin::Material composite = lab_specimen("composite").truth;
+  const std::vector<twin::ClampSpec> clamps = {{"A", twin::Vec2(0.05, 0.21), 0.015}, {"B", twin::Vec2(0.25, 0.21), 0.015}};
+  const auto pose = [](double x, double z, bool engaged) {
+    twin::ClampPose p;
+    p.position_m = Vec3(x, 0.0, z);
+    p.engaged = engaged;
+    return p;
+  };
+  std::vector<twin::TrialStage> stages(2);
+  stages[0].poses = {pose(0.05, 0.5, true), pose(0.22, 0.5, true)};
+  stages[1].poses = {pose(0.05, 0.5, true), pose(0.22, 0.5, false)};
+  const std::vector<twin::Vec2> markers = {clamps[0].material_point_m, clamps[1].material_point_m, twin::Vec2(0.15, 0.02)};
+  const ReferenceStages out = simulate_reference(reference, composite, {}, 0.3, 0.25, clamps, stages, markers);
+  REQUIRE(out.markers_m.size() == 2);
+  CHECK((out.markers_m[0][0] - stages[0].poses[0].position_m).norm() < 1e-9);
+  CHECK((out.markers_m[0][1] - stages[0].poses[1].position_m).norm() < 1e-9);
+  CHECK((out.markers_m[1][0] - stages[1].poses[0].position_m).norm() < 1e-9);
+  CHECK(out.markers_m[1][1].z() < 0.5 - 0.05);                // B let go: its side fell
+  CHECK(out.markers_m[0][2].z() < 0.5 - 0.05);                // the free edge hangs below the jaws
+  for (const auto& stage : out.normals) {
+    for (const Vec3& n : stage) CHECK(n.norm() == Approx(1.0));
+  }
+  CHECK_THAT(out.description, Catch::Contains("spline shell") && Catch::Contains("level 1"));
+  reference.jaws = real_sheet::JawKind::kPivot;
+  CHECK_THROWS_WITH(simulate_reference(reference, composite, {}, 0.3, 0.25, clamps, stages, markers),
+                    Catch::Contains("rigid"));
+}
+
 TEST_CASE("truth models and jaws are named or refused by name", "[sim_hw][lab]") {
   CHECK(parse_truth_model("twin", "--truth-model") == TruthModel::kTwin);
   CHECK(parse_truth_model("independent", "--truth-model") == TruthModel::kIndependent);
+  CHECK(parse_truth_model("spline_shell", "--truth-model") == TruthModel::kSplineShell);
+  for (TruthModel m : {TruthModel::kIndependent, TruthModel::kTwin, TruthModel::kSplineShell}) {
+    CHECK(parse_truth_model(to_string(m), "x") == m);
+  }
   CHECK_THROWS_WITH(parse_truth_model("real", "--truth-model"), Catch::Contains("--truth-model") && Catch::Contains("'real'"));
   CHECK(parse_jaw_kind("pivot", "--jaws") == real_sheet::JawKind::kPivot);
   CHECK_THROWS_WITH(parse_jaw_kind("loose", "--jaws"), Catch::Contains("rigid or pivot"));

@@ -215,6 +215,8 @@ TEST_CASE("world config: errors name the file and the field", "[world]") {
   expect_error(e, "wind");
   e.world = [](nlohmann::json& w) { w["physics"]["truth_model"] = "real"; };
   expect_error(e, "physics.truth_model");
+  e.world = [](nlohmann::json& w) { w["physics"]["truth_model"] = "spline_shell"; };  // the lab's, not real time
+  expect_error(e, "physics.truth_model");
   e.world = [](nlohmann::json& w) { w["physics"]["grid_spacing_m"] = 0; };
   expect_error(e, "physics.grid_spacing_m");
   e.world = nullptr;
