@@ -1,5 +1,5 @@
-// reference_refinement: the convergence study of the reference sheet (issue 54,
-// docs/reference_sheet.md): a Kirchhoff-Love shell on B-splines (sim_hw/spline_shell). Follows
+// reference_refinement: the convergence study of the reference sheet
+// (docs/reference_sheet.md): a Kirchhoff-Love shell on B-splines (sim_hw/spline_shell). Follows
 // one lab trial's clamp path (specimen, seed: protocol, stage times, hidden effect) on the
 // coarsest level, carries every stage up through the levels (each span bisected, the shape
 // carried exactly by knot insertion and solved again, so every level stays on the path's
@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
   double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.03;
+  std::size_t stage_count = 0;
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
   app.add_option("--seed", config.seed, "the lab trial's seed");
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
   app.add_option("--degree", degree, "spline degree")->check(CLI::Range(2, 4));
   app.add_option("--span-m", span_m, "the coarsest level's largest span (m)");
   app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m)");
+  app.add_option("--stages", stage_count, "study the trial's first N stages only (default: all)")->check(CLI::PositiveNumber);
   app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
   app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: every fold's centre within this of its match");
   CLI11_PARSE(app, argc, argv);
@@ -58,8 +60,9 @@ int main(int argc, char** argv) {
     rs::SheetMaterial material = rs::sheet_material_from(setup.truth);
     for (const sim_hw::Crease& c : config.creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
     const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(setup.trial.clamps, w, h);
-    std::vector<rs::PathStage> stages(setup.stages.size());
-    for (std::size_t k = 0; k < setup.stages.size(); ++k) {
+    const std::size_t studied = stage_count > 0 ? std::min(stage_count, setup.stages.size()) : setup.stages.size();
+    std::vector<rs::PathStage> stages(studied);
+    for (std::size_t k = 0; k < studied; ++k) {
       stages[k].poses = setup.stages[k].poses;
       if (setup.stages[k].time_s && setup.stages[k].clamps_moved_at_s) {
         stages[k].age_s = *setup.stages[k].time_s - *setup.stages[k].clamps_moved_at_s;
@@ -95,6 +98,40 @@ int main(int argc, char** argv) {
       lowest_1_s2.push_back(std::move(lambda));
     };
     record(*model, x, holds);
+    // Markers a scan sees: not within the jaw radius of a closed clamp.
+    const auto seen = [&](std::size_t s, std::size_t m) {
+      for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
+        if (setup.stages[s].poses[c].engaged &&
+            (setup.trial.marker_uv_m[m] - setup.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m) {
+          return false;
+        }
+      }
+      return true;
+    };
+    struct Change {
+      double mean_m = 0, max_m = 0;
+      bool same_branch = true;
+      std::string why;
+    };
+    // Level l against level l + 1 at stage s: the seen markers' change, and whether the two are
+    // on one branch.
+    const auto change = [&](int l, std::size_t s) {
+      Change c;
+      int n = 0;
+      for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) {
+        if (!seen(s, m)) continue;
+        const double d = (markers[l][s][m] - markers[l + 1][s][m]).norm();
+        c.mean_m += d, c.max_m = std::max(c.max_m, d), ++n;
+      }
+      c.mean_m /= std::max(n, 1);
+      c.same_branch = ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, &c.why);
+      return c;
+    };
+    const auto change_text = [](int l, const Change& c) {
+      return c.same_branch ? fmt::format("{}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * c.mean_m, 1e3 * c.max_m)
+                           : fmt::format("{}->{} BRANCH FLIP ({}; markers {:.1f} / {:.1f})", l, l + 1, c.why,
+                                         1e3 * c.mean_m, 1e3 * c.max_m);
+    };
     for (int level = 1; level < levels; ++level) {
       t = std::chrono::steady_clock::now();
       ku = ss::refined(ku), kv = ss::refined(kv);
@@ -112,42 +149,28 @@ int main(int argc, char** argv) {
                  replayed.empty() ? "" : fmt::format(" (stage {} let go and fell again on this level)", replayed));
       std::fflush(stdout);
       record(*finer, carried.stages, carried.holds);
+      // This level against the one before, as soon as it is known (a long study can be read as it goes).
+      for (std::size_t k = 0; k < carried.stages.size(); ++k) {
+        fmt::print("  stage {}: {} mm (mean / max); {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1,
+                   change_text(level - 1, change(level - 1, k)), labels.back()[k].text(), lowest_1_s2.back()[k]);
+      }
+      std::fflush(stdout);
       x = std::move(carried.stages);
       holds = std::move(carried.holds);
       model = std::move(finer);
     }
-    // Markers a scan sees: not within the jaw radius of a closed clamp.
-    const auto seen = [&](std::size_t s, std::size_t m) {
-      for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
-        if (setup.stages[s].poses[c].engaged &&
-            (setup.trial.marker_uv_m[m] - setup.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m) {
-          return false;
-        }
-      }
-      return true;
-    };
     fmt::print("\n{} seed {}: seen markers' change between levels, mm, mean / max per stage, on matching branches; "
                "observed order and the finest level's estimated error (Richardson, GCI = 1.25 x)\n", config.specimen,
                config.seed);
     for (std::size_t s = 0; s < x.size(); ++s) {
-      std::vector<double> mean, max;
+      std::vector<double> mean;
       std::vector<bool> matched;
       std::string line = fmt::format("stage {}:", s + 1);
       for (int l = 0; l + 1 < levels; ++l) {
-        double sum = 0, worst = 0;
-        int n = 0;
-        for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) {
-          if (!seen(s, m)) continue;
-          const double d = (markers[l][s][m] - markers[l + 1][s][m]).norm();
-          sum += d, worst = std::max(worst, d), ++n;
-        }
-        mean.push_back(sum / std::max(n, 1));
-        max.push_back(worst);
-        std::string why;
-        matched.push_back(ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, &why));
-        line += matched.back() ? fmt::format("  {}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * mean.back(), 1e3 * max.back())
-                               : fmt::format("  {}->{} BRANCH FLIP ({}; markers {:.1f} / {:.1f})", l, l + 1, why,
-                                             1e3 * mean.back(), 1e3 * max.back());
+        const Change c = change(l, s);
+        mean.push_back(c.mean_m);
+        matched.push_back(c.same_branch);
+        line += "  " + change_text(l, c);
       }
       if (mean.size() >= 2 && matched[matched.size() - 2] && matched.back()) {
         const double a = mean[mean.size() - 2], b = mean.back();
