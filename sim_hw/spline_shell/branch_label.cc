@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -87,28 +87,28 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
   return label;
 }
 
-bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, std::string* why) {
-  const auto differ = [&](std::string reason) {
-    if (why) *why = std::move(reason);
-    return false;
+bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, double significant_area_m2,
+                 std::string* why) {
+  // Every significant fold of one label needs a fold of the same sign within tolerance_m in the
+  // other (of any size: near the threshold a fold may be smaller, or split, on another level).
+  const auto unmatched = [&](const BranchLabel& from, const BranchLabel& in) -> const Fold* {
+    for (const Fold& f : from.folds) {
+      if (f.area_m2 < significant_area_m2) continue;
+      bool found = false;
+      for (const Fold& g : in.folds) found |= g.sign == f.sign && (g.centre_m - f.centre_m).norm() <= tolerance_m;
+      if (!found) return &f;
+    }
+    return nullptr;
   };
-  if (a.folds.size() != b.folds.size()) {
-    return differ(fmt::format("{} folds against {}", a.folds.size(), b.folds.size()));
-  }
-  // Greedy, largest first: each fold of a takes the nearest free fold of b of its sign.
-  std::vector<char> used(b.folds.size(), 0);
-  for (const Fold& f : a.folds) {
-    int best = -1;
-    double best_m = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < b.folds.size(); ++k) {
-      const double d = (b.folds[k].centre_m - f.centre_m).norm();
-      if (!used[k] && b.folds[k].sign == f.sign && d < best_m) best = static_cast<int>(k), best_m = d;
+  for (const auto& [from, in] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+    if (const Fold* f = unmatched(*from, *in)) {
+      if (why) {
+        *why = fmt::format("the {}fold at ({:.0f}, {:.0f}) mm, {:.0f} cm^2, has no match within {:.0f} mm",
+                           f->sign > 0 ? "+" : "-", 1e3 * f->centre_m.x(), 1e3 * f->centre_m.y(), 1e4 * f->area_m2,
+                           1e3 * tolerance_m);
+      }
+      return false;
     }
-    if (best < 0 || best_m > tolerance_m) {
-      return differ(fmt::format("the {}fold at ({:.0f}, {:.0f}) mm has no match within {:.0f} mm", f.sign > 0 ? "+" : "-",
-                                1e3 * f.centre_m.x(), 1e3 * f.centre_m.y(), 1e3 * tolerance_m));
-    }
-    used[best] = 1;
   }
   return true;
 }

@@ -37,8 +37,11 @@ struct FoldOptions {
 
 BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOptions& options = {});
 
-// Same branch: as many folds, and each of a's matched to a distinct fold of b of the same sign
-// whose centre is within tolerance_m. `why` says what differs otherwise.
-bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, std::string* why = nullptr);
+// Same branch: every fold of at least significant_area_m2 in either label has a fold of the same
+// sign in the other whose centre is within tolerance_m. Smaller folds may come and go between
+// levels (a region near the fold radius grows past the least area on one level and not on the
+// next); a flap that turned over or a fold that moved cannot. `why` says what differs otherwise.
+bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, double significant_area_m2 = 1e-3,
+                 std::string* why = nullptr);
 
 }  // namespace sim_hw::spline_shell

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
-  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.03;
+  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.03, significant_fold_m2 = 1e-3;
   std::size_t stage_count = 0;
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   app.add_option("--stages", stage_count, "study the trial's first N stages only (default: all)")->check(CLI::PositiveNumber);
   app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
   app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: every fold's centre within this of its match");
+  app.add_option("--significant-fold-m2", significant_fold_m2, "one branch: folds of this area and more must match");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -98,6 +99,10 @@ int main(int argc, char** argv) {
       lowest_1_s2.push_back(std::move(lambda));
     };
     record(*model, x, holds);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      fmt::print("  stage {}: {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1, labels.back()[k].text(), lowest_1_s2.back()[k]);
+    }
+    std::fflush(stdout);
     // Markers a scan sees: not within the jaw radius of a closed clamp.
     const auto seen = [&](std::size_t s, std::size_t m) {
       for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
@@ -124,7 +129,7 @@ int main(int argc, char** argv) {
         c.mean_m += d, c.max_m = std::max(c.max_m, d), ++n;
       }
       c.mean_m /= std::max(n, 1);
-      c.same_branch = ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, &c.why);
+      c.same_branch = ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, significant_fold_m2, &c.why);
       return c;
     };
     const auto change_text = [](int l, const Change& c) {
