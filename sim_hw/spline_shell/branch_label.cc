@@ -66,7 +66,8 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
       const int c = stack.back();
       stack.pop_back();
       const int i = c % nu, j = c / nu;
-      sum += Vec2((i + 0.5) * du, (j + 0.5) * dv);
+      fold.cells_m.push_back(Vec2((i + 0.5) * du, (j + 0.5) * dv));
+      sum += fold.cells_m.back();
       ++cells;
       fold.peak_curvature_1_m = std::max(fold.peak_curvature_1_m, std::abs(kappa[c]));
       const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
@@ -89,22 +90,33 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
 
 bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, double significant_area_m2,
                  std::string* why) {
-  // Every significant fold of one label needs a fold of the same sign within tolerance_m in the
-  // other (of any size: near the threshold a fold may be smaller, or split, on another level).
-  const auto unmatched = [&](const BranchLabel& from, const BranchLabel& in) -> const Fold* {
-    for (const Fold& f : from.folds) {
-      if (f.area_m2 < significant_area_m2) continue;
+  // Every significant fold of one label must lie, for at least half its cells, within
+  // tolerance_m of cells of same-signed folds in the other: a fold that splits in two, merges or
+  // shrinks between levels is still there, a flap turned over or a fold gone is not.
+  const auto covered = [&](const Fold& f, const BranchLabel& in) {
+    int near = 0;
+    for (const Vec2& p : f.cells_m) {
       bool found = false;
-      for (const Fold& g : in.folds) found |= g.sign == f.sign && (g.centre_m - f.centre_m).norm() <= tolerance_m;
-      if (!found) return &f;
+      for (const Fold& g : in.folds) {
+        if (g.sign != f.sign) continue;
+        for (const Vec2& q : g.cells_m) {
+          if ((q - p).squaredNorm() <= tolerance_m * tolerance_m) {
+            found = true;
+            break;
+          }
+        }
+        if (found) break;
+      }
+      near += found;
     }
-    return nullptr;
+    return 2 * near >= static_cast<int>(f.cells_m.size());
   };
   for (const auto& [from, in] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
-    if (const Fold* f = unmatched(*from, *in)) {
+    for (const Fold& f : from->folds) {
+      if (f.area_m2 < significant_area_m2 || covered(f, *in)) continue;
       if (why) {
         *why = fmt::format("the {}fold at ({:.0f}, {:.0f}) mm, {:.0f} cm^2, has no match within {:.0f} mm",
-                           f->sign > 0 ? "+" : "-", 1e3 * f->centre_m.x(), 1e3 * f->centre_m.y(), 1e4 * f->area_m2,
+                           f.sign > 0 ? "+" : "-", 1e3 * f.centre_m.x(), 1e3 * f.centre_m.y(), 1e4 * f.area_m2,
                            1e3 * tolerance_m);
       }
       return false;

@@ -21,6 +21,7 @@ struct Fold {
   Vec2 centre_m = Vec2::Zero();  // material centroid
   double area_m2 = 0;
   double peak_curvature_1_m = 0;  // the largest principal curvature's magnitude in it
+  std::vector<Vec2> cells_m;       // the material grid's cells it covers (their centres)
 };
 
 struct BranchLabel {
@@ -37,11 +38,12 @@ struct FoldOptions {
 
 BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOptions& options = {});
 
-// Same branch: every fold of at least significant_area_m2 in either label has a fold of the same
-// sign in the other whose centre is within tolerance_m. Smaller folds may come and go between
-// levels (a region near the fold radius grows past the least area on one level and not on the
-// next); a flap that turned over or a fold that moved cannot. `why` says what differs otherwise.
-bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, double significant_area_m2 = 1e-3,
+// Same branch: every fold of at least significant_area_m2 in either label lies, for at least half
+// its cells, within tolerance_m of the other's folds of the same sign. A fold may split, merge or
+// shrink between levels, and smaller folds come and go (a region near the fold radius grows past
+// the least area on one level and not on the next); a flap that turned over, or a fold that is
+// gone or moved by more than its width, is another branch. `why` says which fold differs.
+bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m = 0.02, double significant_area_m2 = 1e-3,
                  std::string* why = nullptr);
 
 }  // namespace sim_hw::spline_shell

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
-  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.03, significant_fold_m2 = 1e-3;
+  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.02, significant_fold_m2 = 1e-3;
   std::size_t stage_count = 0;
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m)");
   app.add_option("--stages", stage_count, "study the trial's first N stages only (default: all)")->check(CLI::PositiveNumber);
   app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
-  app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: every fold's centre within this of its match");
+  app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: half of every significant fold within this of the other level's folds of its sign");
   app.add_option("--significant-fold-m2", significant_fold_m2, "one branch: folds of this area and more must match");
   CLI11_PARSE(app, argc, argv);
   try {

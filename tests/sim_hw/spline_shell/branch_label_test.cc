@@ -1,6 +1,6 @@
 // Branch labels name a shape by its folds: a hairpin fold is found where it is, with its sign and
 // area; the same fold on a finer patch is the same branch; the fold turned the other way, or
-// moved, is another; a gently curved sheet has none.
+// moved by more than its width, is another; a gently curved sheet has none.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -54,7 +54,10 @@ TEST_CASE("spline shell: labels tell the same fold on a finer patch from a turne
   std::string why;
   CHECK_FALSE(ss::same_branch(a, ss::branch_label(fine, hairpin(fine, 0.06, 0.025, -1)), 0.01, 1e-3, &why));
   CHECK(why.find("no match") != std::string::npos);
-  CHECK_FALSE(ss::same_branch(a, ss::branch_label(fine, hairpin(fine, 0.09, 0.025, +1)), 0.01));
+  // Moved by more than its width (8 cm): another branch; by a centimetre: the same fold.
+  const ss::BranchLabel narrow = ss::branch_label(fine, hairpin(fine, 0.03, 0.012, +1));
+  CHECK_FALSE(ss::same_branch(narrow, ss::branch_label(fine, hairpin(fine, 0.12, 0.012, +1)), 0.01));
+  CHECK(ss::same_branch(narrow, ss::branch_label(fine, hairpin(fine, 0.04, 0.012, +1)), 0.01));
   // A sheet rolled on a 10 cm cylinder bends, but folds nowhere.
   const ss::VecX rolled = fine.interpolate([](const ss::Vec2& uv) {
     return ss::Vec3(0.1 * std::sin(uv.x() / 0.1), uv.y(), 0.1 * (1 - std::cos(uv.x() / 0.1)));
@@ -66,7 +69,7 @@ TEST_CASE("spline shell: labels tell the same fold on a finer patch from a turne
   CHECK(why.find("+fold at (") != std::string::npos);
   // A fold smaller than the significant area may come and go between levels.
   ss::BranchLabel with_small = b;
-  with_small.folds.push_back({-1, ss::Vec2(0.18, 0.02), 5e-4, 40.0});
+  with_small.folds.push_back({-1, ss::Vec2(0.18, 0.02), 5e-4, 40.0, {ss::Vec2(0.18, 0.02)}});
   CHECK(ss::same_branch(with_small, b, 0.01, 1e-3));
   CHECK_FALSE(ss::same_branch(with_small, b, 0.01, 4e-4));
 }
