@@ -68,12 +68,8 @@ IndependentPath independent_path(const ReferenceSheet& reference, const twin::Ma
   const double spacing =
       reference.path_grid_spacing_m > 0 ? reference.path_grid_spacing_m : independent_path_spacing_m(truth);
   path.model = std::make_unique<rs::SheetModel>(rs::Grid(w, h, spacing), path.material, marker_uv);
-  std::vector<rs::PathStage> stage_poses(stages.size());
+  const std::vector<rs::PathStage> stage_poses = rs::path_stages(stages);
   for (std::size_t k = 0; k < stages.size(); ++k) {
-    stage_poses[k].poses = stages[k].poses;
-    if (stages[k].time_s && stages[k].clamps_moved_at_s) {
-      stage_poses[k].age_s = *stages[k].time_s - *stages[k].clamps_moved_at_s;
-    }
     // Without creep the age changes nothing; the path solves every stage at age 0 then.
     path.ages_s.push_back(path.material.creep_fraction > 0 ? stage_poses[k].age_s : 0.0);
   }

@@ -22,13 +22,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   rs::SheetMaterial material = rs::sheet_material_from(truth);
   for (const Crease& c : creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
   const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(clamps, w, h);
-  std::vector<rs::PathStage> path_stages(stages.size());
-  for (std::size_t k = 0; k < stages.size(); ++k) {
-    path_stages[k].poses = stages[k].poses;
-    if (stages[k].time_s && stages[k].clamps_moved_at_s) {
-      path_stages[k].age_s = *stages[k].time_s - *stages[k].clamps_moved_at_s;
-    }
-  }
+  const std::vector<rs::PathStage> path_stages = rs::path_stages(stages);
   ss::KnotVector ku = ss::jaw_knots(reference.shell_degree, w, 0, jaws, reference.shell_span_m, reference.shell_jaw_span_m);
   ss::KnotVector kv = ss::jaw_knots(reference.shell_degree, h, 1, jaws, reference.shell_span_m, reference.shell_jaw_span_m);
   auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, marker_uv);

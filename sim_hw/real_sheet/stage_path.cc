@@ -9,6 +9,15 @@
 #include <fmt/format.h>
 
 namespace sim_hw::real_sheet {
+
+std::vector<PathStage> path_stages(const std::vector<twin::TrialStage>& stages) {
+  std::vector<PathStage> out(stages.size());
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    out[k].poses = stages[k].poses;
+    if (stages[k].time_s && stages[k].clamps_moved_at_s) out[k].age_s = *stages[k].time_s - *stages[k].clamps_moved_at_s;
+  }
+  return out;
+}
 namespace {
 
 // The jaws' pads for the clamps, with the material's wide and slipping jaws.

@@ -13,6 +13,7 @@
 #include "sim_hw/real_sheet/equilibrium_solver.h"
 #include "sim_hw/real_sheet/sheet_model.h"
 #include "twin/model/clamp.h"
+#include "twin/trials/trial.h"
 
 namespace sim_hw::real_sheet {
 
@@ -20,6 +21,10 @@ struct PathStage {
   std::vector<twin::ClampPose> poses;  // one per clamp (position of its material point; engaged)
   double age_s = std::numeric_limits<double>::quiet_NaN();  // since the clamps last moved
 };
+
+// A trial's stages as the path takes them: the poses, and the age since the clamps last moved
+// where the trial says both times (NaN otherwise).
+std::vector<PathStage> path_stages(const std::vector<twin::TrialStage>& stages);
 
 struct PathOptions {
   JawKind jaws = JawKind::kRigid;

@@ -62,13 +62,8 @@ int main(int argc, char** argv) {
     for (const sim_hw::Crease& c : config.creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
     const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(setup.trial.clamps, w, h);
     const std::size_t studied = stage_count > 0 ? std::min(stage_count, setup.stages.size()) : setup.stages.size();
-    std::vector<rs::PathStage> stages(studied);
-    for (std::size_t k = 0; k < studied; ++k) {
-      stages[k].poses = setup.stages[k].poses;
-      if (setup.stages[k].time_s && setup.stages[k].clamps_moved_at_s) {
-        stages[k].age_s = *setup.stages[k].time_s - *setup.stages[k].clamps_moved_at_s;
-      }
-    }
+    std::vector<rs::PathStage> stages = rs::path_stages(setup.stages);
+    stages.resize(studied);
     ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m);
     ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m);
     auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
