@@ -11,6 +11,7 @@
 // Either returns, per stage, the noise-free markers and the sheet's normal at each (for the raw
 // scans), or throws std::runtime_error naming the stage that failed.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,16 +46,32 @@ struct ReferenceSheet {
   int shell_degree = 3;
   double shell_span_m = 0.04, shell_jaw_span_m = 0.01;
   int shell_levels = 1;
+  // The markers the truth's own error is measured over: not within this of a closed clamp (the
+  // scanner's hidden radius; a jaw holds the same material at every level).
+  double error_hidden_radius_m = 0.03;
   // Twin model: its mesh (ScannerLabConfig's reference mesh settings).
   int triangles = 6000;
   bool resolve_jaws = true;
   std::vector<double> clamp_refinement_radii_m;
 };
 
+// The truth's own error at a stage, from its refinement levels (the spline shell's, with one
+// level or more above level 0): the markers' change between the two finest levels and, with three
+// levels or more on one branch, the observed order and Richardson's estimate of the finest
+// level's error (sim_hw/spline_shell/refinement_estimate.h).
+struct TruthError {
+  double finest_change_mean_m = 0, finest_change_max_m = 0;
+  bool one_branch = true;             // the two finest levels hold the same folds
+  std::optional<double> order;        // observed
+  std::optional<double> estimated_m;  // of the mean, Richardson
+  std::string text;                   // per comparison and the estimate, as the study prints it
+};
+
 struct ReferenceStages {
   std::vector<std::vector<twin::Vec3>> markers_m, normals;  // per stage, per marker
   std::string description;  // the model and its resolution, for people and lab.json
   int size = 0;             // triangles (twin) or grid nodes (independent)
+  std::vector<TruthError> truth_error;  // per stage; empty when the model has no levels to compare
 };
 
 // The independent model's default grids for a material, from the bending length

@@ -177,6 +177,7 @@ ReferenceSheet reference_sheet(const ScannerLabConfig& config) {
   sheet.clamp_refinement_radii_m = config.reference_clamp_refinement_radii_m;
   sheet.path_grid_spacing_m = config.path_grid_spacing_m;
   sheet.shell_levels = config.shell_levels;
+  sheet.error_hidden_radius_m = config.clamp_jaw_radius_m;
   return sheet;
 }
 
@@ -249,6 +250,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     throw std::runtime_error(fmt::format("scanner lab: {} seed {}: {}", config.specimen, config.seed, e.what()));
   }
   lab.reference_description = simulated.description;
+  lab.truth_error = simulated.truth_error;
   if (config.truth_model == TruthModel::kTwin) lab.reference_mesh_triangles = simulated.size;
 
   std::normal_distribution<double> marker_noise(0.0, config.marker_noise_m), probe_noise(0.0, config.probe_noise_m);
@@ -334,6 +336,22 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
     j["jaws"] = to_string(config.jaws);
   }
   if (config.truth_model == TruthModel::kSplineShell) j["shell_levels"] = config.shell_levels;
+  // The truth's own error per stage (its two finest levels' change; order and estimate where
+  // three levels or more agree on the branch); null where it cannot say.
+  if (!lab.truth_error.empty()) {
+    nlohmann::json errors = nlohmann::json::array();
+    for (std::size_t s = 0; s < lab.truth_error.size() && s < lab.trial.stages.size(); ++s) {
+      const TruthError& e = lab.truth_error[s];
+      errors.push_back({{"stage", lab.trial.stages[s].id},
+                        {"finest_change_mean_m", e.finest_change_mean_m},
+                        {"finest_change_max_m", e.finest_change_max_m},
+                        {"one_branch", e.one_branch},
+                        {"order", e.order ? nlohmann::json(*e.order) : nlohmann::json()},
+                        {"estimated_error_m", e.estimated_m ? nlohmann::json(*e.estimated_m) : nlohmann::json()},
+                        {"summary", e.text}});
+    }
+    j["truth_error"] = std::move(errors);
+  }
   j["reference_triangles"] = config.reference_triangles;
   j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
   j["reference_resolves_jaws"] = config.reference_resolves_jaws;

@@ -77,6 +77,7 @@ struct LabTrial {
   std::vector<twin::ClampPose> true_stage1_poses;
   int reference_mesh_triangles = 0;  // the twin reference's mesh, refinement included (twin model)
   std::string reference_description;  // the model that made the truth and its resolution
+  std::vector<TruthError> truth_error;  // per stage, where the truth model measures its own (lab.json)
 };
 
 // How far apart (m) a clamp move may pull two engaged clamps whose material points are

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "sim_hw/spline_shell/branch_label.h"
+#include "sim_hw/spline_shell/refinement_estimate.h"
 #include "sim_hw/spline_shell/shell_path.h"
 
 namespace sim_hw {
@@ -31,6 +33,18 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   std::vector<ss::VecX> x = path.stages;
   std::vector<ss::ShellHolds> holds = path.holds;
   int carried_iterations = 0;
+  // Per level, per stage: the markers and the branch label, for the truth's own error.
+  std::vector<std::vector<std::vector<twin::Vec3>>> level_markers;
+  std::vector<std::vector<ss::BranchLabel>> level_labels;
+  const auto record = [&](const ss::ShellModel& m) {
+    level_markers.emplace_back();
+    level_labels.emplace_back();
+    for (const ss::VecX& xs : x) {
+      level_markers.back().push_back(m.marker_positions(xs));
+      level_labels.back().push_back(ss::branch_label(m.patch(), xs));
+    }
+  };
+  if (reference.shell_levels > 0) record(*model);
   for (int level = 1; level <= reference.shell_levels; ++level) {
     ku = ss::refined(ku), kv = ss::refined(kv);
     auto finer = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, marker_uv);
@@ -44,9 +58,33 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
     x = std::move(carried.stages);
     holds = std::move(carried.holds);
     model = std::move(finer);
+    record(*model);
   }
   ReferenceStages out;
   out.size = model->patch().control_count();
+  for (std::size_t s = 0; s < x.size() && level_markers.size() >= 2; ++s) {
+    std::vector<bool> counted;  // not hidden by a closed clamp (what a scan sees)
+    for (const twin::Vec2& uv : marker_uv) {
+      bool hidden = false;
+      for (std::size_t c = 0; c < clamps.size(); ++c) {
+        hidden |= stages[s].poses[c].engaged && (uv - clamps[c].material_point_m).norm() < reference.error_hidden_radius_m;
+      }
+      counted.push_back(!hidden);
+    }
+    std::vector<std::vector<twin::Vec3>> markers;
+    std::vector<ss::BranchLabel> labels;
+    for (std::size_t l = 0; l < level_markers.size(); ++l) markers.push_back(level_markers[l][s]), labels.push_back(level_labels[l][s]);
+    const ss::StageRefinement r = ss::stage_refinement(markers, labels, counted);
+    TruthError e;
+    e.finest_change_mean_m = r.finest().mean_m;
+    e.finest_change_max_m = r.finest().max_m;
+    e.one_branch = r.finest().same_branch;
+    e.order = r.order;
+    e.estimated_m = r.finest_error_m;
+    for (std::size_t l = 0; l < r.changes.size(); ++l) e.text += (l ? "  " : "") + ss::change_text(static_cast<int>(l), r.changes[l]);
+      if (r.changes.size() >= 2) e.text += "; " + ss::estimate_text(r);
+    out.truth_error.push_back(std::move(e));
+  }
   for (const ss::VecX& xs : x) {
     out.markers_m.push_back(model->marker_positions(xs));
     std::vector<twin::Vec3> normals;

@@ -1,9 +1,11 @@
 #pragma once
 // The scanner lab's "real" sheet as the reference shell (sim_hw/spline_shell,
 // docs/reference_sheet.md): the trial's clamp path followed on the coarsest spline level, each
-// stage carried up `levels` bisections (a stage that lets a jaw go falls again on each level),
-// the markers and normals read on the finest. How far that level is from converged is what
-// `reference_refinement` measures for the trial.
+// stage carried up `levels` bisections (exact knot insertion, solved again: falls included, so
+// every level is on the path's branch), the markers and normals read on the finest. Each
+// stage's truth error comes from the levels it has: the two finest levels' change, and with two
+// levels or more above level 0 the observed order and the finest level's estimated error (what
+// `reference_refinement` prints for the trial, with its labels and eigenvalues).
 
 #include <vector>
 

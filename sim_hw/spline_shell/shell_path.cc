@@ -246,7 +246,7 @@ CarriedPath carry_path(ShellModel& from, const std::vector<VecX>& x, const std::
     }
     ShellSolveReport report;
     try {
-      if (k > 0 && lets_go(out.holds.back(), stages[k], jaws)) {
+      if (options.replay_falls && k > 0 && lets_go(out.holds.back(), stages[k], jaws)) {
         ShellHolds after;
         out.stages.push_back(replay_stage(to, jaws, out.stages.back(), out.holds.back(), stages[k], &after, options, &report));
         out.holds.push_back(after);

@@ -23,6 +23,11 @@ struct ShellPathOptions {
   double increment_m = 0.02;  // largest jaw travel per solved increment
   ShellSolveOptions solve;    // per increment
   double fall_damping_1_s2 = 1e4;
+  // carry_path: a stage where a jaw opens or closes falls again on the finer patch from the
+  // stage before it there (true), or is carried from the coarser patch's fallen shape like any
+  // other stage (false: every level on the coarsest level's branch, what a refinement study
+  // compares; a fall's end is a branch choice of the overdamped motion, not a discretisation).
+  bool replay_falls = false;
 };
 
 struct ShellPathResult {
@@ -60,10 +65,11 @@ VecX carry_to_patch(const ShellModel& from, const VecX& x, const ShellHolds& hol
                     const ShellPathOptions& options = {}, ShellSolveReport* report = nullptr);
 
 // A path's stages (x, holds: follow_path's or a coarser carry's) put onto a finer patch, in
-// order: a stage where a jaw opens or closes (lets_go) falls again on `to` from the stage before
-// it there (replay_stage); every other is carried exactly (carry_to_patch), its jaws keeping the
-// frames they took on `to`. Repeated scans of one pose stay one state. Stage ages come from
-// `stages` (with creep). Throws std::runtime_error naming the stage that did not settle.
+// order: each is carried exactly (carry_to_patch), its jaws keeping the frames they took on `to`;
+// with options.replay_falls, a stage where a jaw opens or closes (lets_go) falls again on `to`
+// from the stage before it there (replay_stage) instead. Repeated scans of one pose stay one
+// state. Stage ages come from `stages` (with creep). Throws std::runtime_error naming the stage
+// that did not settle.
 struct CarriedPath {
   std::vector<VecX> stages;
   std::vector<ShellHolds> holds;

@@ -3,8 +3,9 @@
 // one lab trial's clamp path (specimen, seed: protocol, stage times, hidden effect) on the
 // coarsest level, carries every stage up through the levels (each span bisected, the shape
 // carried exactly by knot insertion and solved again, so every level stays on the path's
-// branch; a stage where a jaw opens or closes falls again on each level, from that level's
-// stage before), and prints per stage how far the markers a scan sees move between levels, the
+// branch, falls included; with --replay-falls a stage where a jaw opens or closes falls again
+// on each level from that level's stage before, which asks whether the fall's end is robust to
+// the discretisation), and prints per stage how far the markers a scan sees move between levels, the
 // observed order and a Richardson estimate of the finest level's own error (with Roache's GCI,
 // safety factor 1.25), with each level's branch label (its folds) and lowest eigenvalue: levels
 // on different branches are reported as a flip, never as a change.
@@ -23,6 +24,7 @@
 
 #include "sim_hw/scanner_lab.h"
 #include "sim_hw/spline_shell/branch_label.h"
+#include "sim_hw/spline_shell/refinement_estimate.h"
 #include "sim_hw/spline_shell/shell_path.h"
 
 namespace ss = sim_hw::spline_shell;
@@ -53,6 +55,10 @@ int main(int argc, char** argv) {
   app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
   app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: half of every significant fold within this of the other level's folds of its sign");
   app.add_option("--significant-fold-m2", significant_fold_m2, "one branch: folds of this area and more must match");
+  ss::ShellPathOptions carry;
+  app.add_flag("--replay-falls", carry.replay_falls,
+               "a stage that opens or closes a jaw falls again on each level (default: carried from the coarser "
+               "level's fallen shape, on one branch)");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -108,29 +114,17 @@ int main(int argc, char** argv) {
       }
       return true;
     };
-    struct Change {
-      double mean_m = 0, max_m = 0;
-      bool same_branch = true;
-      std::string why;
-    };
-    // Level l against level l + 1 at stage s: the seen markers' change, and whether the two are
-    // on one branch.
-    const auto change = [&](int l, std::size_t s) {
-      Change c;
-      int n = 0;
-      for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) {
-        if (!seen(s, m)) continue;
-        const double d = (markers[l][s][m] - markers[l + 1][s][m]).norm();
-        c.mean_m += d, c.max_m = std::max(c.max_m, d), ++n;
-      }
-      c.mean_m /= std::max(n, 1);
-      c.same_branch = ss::same_branch(labels[l][s], labels[l + 1][s], branch_tolerance_m, significant_fold_m2, &c.why);
-      return c;
-    };
-    const auto change_text = [](int l, const Change& c) {
-      return c.same_branch ? fmt::format("{}->{} {:.3f} / {:.3f}", l, l + 1, 1e3 * c.mean_m, 1e3 * c.max_m)
-                           : fmt::format("{}->{} BRANCH FLIP ({}; markers {:.1f} / {:.1f})", l, l + 1, c.why,
-                                         1e3 * c.mean_m, 1e3 * c.max_m);
+    const ss::BranchMatch match{branch_tolerance_m, significant_fold_m2};
+    std::vector<std::vector<bool>> counted(stages.size());  // per stage, the markers a scan sees
+    for (std::size_t k = 0; k < stages.size(); ++k) {
+      for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) counted[k].push_back(seen(k, m));
+    }
+    // Stage s's levels so far, for the estimate.
+    const auto refinement = [&](std::size_t s) {
+      std::vector<std::vector<ss::Vec3>> per_level;
+      std::vector<ss::BranchLabel> label;
+      for (std::size_t l = 0; l < markers.size(); ++l) per_level.push_back(markers[l][s]), label.push_back(labels[l][s]);
+      return ss::stage_refinement(per_level, label, counted[s], match);
     };
     for (int level = 1; level < levels; ++level) {
       t = std::chrono::steady_clock::now();
@@ -138,7 +132,7 @@ int main(int argc, char** argv) {
       auto finer = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
       ss::CarriedPath carried;
       try {
-        carried = ss::carry_path(*model, x, holds, *finer, jaws, stages);
+        carried = ss::carry_path(*model, x, holds, *finer, jaws, stages, carry);
       } catch (const std::runtime_error& e) {
         throw std::runtime_error(fmt::format("level {}, {}", level, e.what()));
       }
@@ -151,8 +145,8 @@ int main(int argc, char** argv) {
       record(*finer, carried.stages, carried.holds);
       // This level against the one before, as soon as it is known (a long study can be read as it goes).
       for (std::size_t k = 0; k < carried.stages.size(); ++k) {
-        fmt::print("  stage {}: {} mm (mean / max); {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1,
-                   change_text(level - 1, change(level - 1, k)), labels.back()[k].text(), lowest_1_s2.back()[k]);
+        fmt::print("  stage {}: {}; {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1,
+                   ss::change_text(level - 1, refinement(k).finest()), labels.back()[k].text(), lowest_1_s2.back()[k]);
       }
       std::fflush(stdout);
       x = std::move(carried.stages);
@@ -163,23 +157,10 @@ int main(int argc, char** argv) {
                "observed order and the finest level's estimated error (Richardson, GCI = 1.25 x)\n", config.specimen,
                config.seed);
     for (std::size_t s = 0; s < x.size(); ++s) {
-      std::vector<double> mean;
-      std::vector<bool> matched;
+      const ss::StageRefinement r = refinement(s);
       std::string line = fmt::format("stage {}:", s + 1);
-      for (int l = 0; l + 1 < levels; ++l) {
-        const Change c = change(l, s);
-        mean.push_back(c.mean_m);
-        matched.push_back(c.same_branch);
-        line += "  " + change_text(l, c);
-      }
-      if (mean.size() >= 2 && matched[matched.size() - 2] && matched.back()) {
-        const double a = mean[mean.size() - 2], b = mean.back();
-        const double order = std::log2(a / b);
-        const double error = order > 0.2 ? b / (std::pow(2.0, order) - 1.0) : std::numeric_limits<double>::quiet_NaN();
-        line += fmt::format("  | order {:.2f}, finest error {:.3f} mm (GCI {:.3f})", order, 1e3 * error, 1.25e3 * error);
-      } else if (mean.size() >= 2) {
-        line += "  | no order: the two finest comparisons are not on one branch";
-      }
+      for (std::size_t l = 0; l < r.changes.size(); ++l) line += "  " + ss::change_text(static_cast<int>(l), r.changes[l]);
+      if (r.changes.size() >= 2) line += "  | " + ss::estimate_text(r);
       fmt::print("{}\n", line);
       std::string lambdas;
       for (int l = 0; l < levels; ++l) lambdas += fmt::format("{}{:.3g}", l ? " / " : "", lowest_1_s2[l][s]);

@@ -108,6 +108,10 @@ int main(int argc, char** argv) {
     fmt::print("scanner lab: {} seed {}: {} stages, {} markers, {} hidden under clamps in all, {} -> {} (truth in {})\n",
                config.specimen, config.seed, lab.trial.stages.size(), lab.trial.marker_uv_m.size(), hidden,
                lab.reference_description, out, truth);
+    for (std::size_t s = 0; s < lab.truth_error.size(); ++s) {
+      fmt::print("  truth's own error, stage {}: {} (seen markers' change between levels, mean / max)\n",
+                 lab.trial.stages[s].id, lab.truth_error[s].text);
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "scanner_lab: %s\n", e.what());

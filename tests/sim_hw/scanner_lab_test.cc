@@ -275,6 +275,37 @@ TEST_CASE("the spline shell truth holds the sheet where the clamps are and says 
     for (const Vec3& n : stage) CHECK(n.norm() == Approx(1.0));
   }
   CHECK_THAT(out.description, Catch::Contains("spline shell") && Catch::Contains("level 1"));
+  // Its own error per stage: levels 0 and 1 give a change, no order.
+  REQUIRE(out.truth_error.size() == 2);
+  for (const TruthError& e : out.truth_error) {
+    CHECK(e.finest_change_mean_m > 0);
+    CHECK(e.finest_change_max_m >= e.finest_change_mean_m);
+    CHECK_FALSE(e.estimated_m);
+    CHECK_FALSE(e.order);
+    CHECK_THAT(e.text, Catch::Contains("0->1") && !Catch::Contains("1->2"));
+  }
+  // Three levels of a sheet hanging between two jaws at its own width: the change shrinks from
+  // 0->1 to 1->2 on one branch, with an order and an estimate below the last change. The
+  // markers under the jaws (within the scanner's 3 cm) do not count.
+  reference.shell_levels = 2;
+  reference.shell_span_m = 0.04;
+  reference.shell_jaw_span_m = 0.01;
+  std::vector<twin::TrialStage> hanging(1);
+  hanging[0].poses = {pose(0.05, 0.5, true), pose(0.25, 0.5, true)};
+  std::vector<twin::Vec2> grid = {clamps[0].material_point_m};
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 4; ++i) grid.push_back(twin::Vec2(0.03 + 0.08 * i, 0.02 + 0.06 * j));
+  }
+  const ReferenceStages finer = simulate_reference(reference, composite, {}, 0.3, 0.25, clamps, hanging, grid);
+  REQUIRE(finer.truth_error.size() == 1);
+  const TruthError& e = finer.truth_error[0];
+  INFO(e.text);
+  CHECK(e.one_branch);
+  REQUIRE(e.estimated_m);
+  CHECK(*e.order > 1.0);
+  CHECK(*e.estimated_m < e.finest_change_mean_m);
+  CHECK(e.finest_change_mean_m < 1e-3);
+  CHECK_THAT(e.text, Catch::Contains("0->1") && Catch::Contains("1->2") && Catch::Contains("order"));
   reference.jaws = real_sheet::JawKind::kPivot;
   CHECK_THROWS_WITH(simulate_reference(reference, composite, {}, 0.3, 0.25, clamps, stages, markers),
                     Catch::Contains("rigid"));
