@@ -32,7 +32,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   if (!path.usable()) throw std::runtime_error("the spline shell reference failed at " + path.failure);
   std::vector<ss::VecX> x = path.stages;
   std::vector<ss::ShellHolds> holds = path.holds;
-  int carried_iterations = 0;
+  int carried_iterations = 0, relaxation_iterations = 0;
   // Per level, per stage: the markers and the branch label, for the truth's own error.
   std::vector<std::vector<std::vector<twin::Vec3>>> level_markers;
   std::vector<std::vector<ss::BranchLabel>> level_labels;
@@ -55,6 +55,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
       throw std::runtime_error(fmt::format("the spline shell reference failed at level {}, {}", level, e.what()));
     }
     carried_iterations += carried.iterations;
+    relaxation_iterations += carried.relaxation_iterations;
     x = std::move(carried.stages);
     holds = std::move(carried.holds);
     model = std::move(finer);
@@ -93,10 +94,10 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   }
   out.description = fmt::format(
       "spline shell (Kirchhoff-Love, degree {}), level {}: {} x {} controls ({:.1f}-{:.1f} mm spans at level 0, halved "
-      "per level), path on level 0 ({} increments, {} iterations), {} iterations carrying it up",
+      "per level), path on level 0 ({} increments, {} iterations), {} L-BFGS and {} Newton iterations carrying it up",
       reference.shell_degree, reference.shell_levels, model->patch().nu(), model->patch().nv(),
       1e3 * reference.shell_jaw_span_m, 1e3 * reference.shell_span_m, path.increments, path.iterations,
-      carried_iterations);
+      relaxation_iterations, carried_iterations);
   return out;
 }
 

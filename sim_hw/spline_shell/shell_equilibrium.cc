@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sim_hw/real_sheet/cholesky.h"
+#include "sim_hw/spline_shell/preconditioned_lbfgs.h"
 
 namespace sim_hw::spline_shell {
 
@@ -108,7 +109,18 @@ ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, V
   newton.shifted_exact = true;
   newton.trace = options.trace || std::getenv("SPLINE_SHELL_TRACE") != nullptr;
   HeldShell problem(model, std::move(fixed), x);
-  const ShellSolveReport report = real_sheet::damped_newton(problem, H, cholesky, metric, newton);
+  ShellSolveReport report;
+  if (options.relax_to_force > 0 && options.initial_damping_1_s2 == 0) {
+    LbfgsOptions relax;
+    relax.tolerance_N = std::max(newton.tolerance_N, options.relax_to_force * model.total_weight_N());
+    relax.trace = newton.trace;
+    const LbfgsReport relaxed = preconditioned_lbfgs(problem, H, cholesky, metric, relax);
+    report.relaxation_iterations = relaxed.iterations;
+    report.factorizations = relaxed.factorizations;
+  }
+  const int relaxation_factorizations = report.factorizations;
+  static_cast<real_sheet::DampedNewtonReport&>(report) = real_sheet::damped_newton(problem, H, cholesky, metric, newton);
+  report.factorizations += relaxation_factorizations;
   if (!report.converged && !report.budget_used) x = x_start;  // the jaws' placement too
   return report;
 }

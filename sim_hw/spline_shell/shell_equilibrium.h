@@ -33,10 +33,17 @@ struct ShellSolveOptions {
   int max_iterations = 400;
   double initial_damping_1_s2 = 0.0;
   double step_limit_m = 0.05;
+  // Relax first by preconditioned L-BFGS (preconditioned_lbfgs.h) down to this fraction of the
+  // sheet's weight per free control, Newton's method after: for a state near its equilibrium
+  // (a shape carried to a finer patch) most iterations then need no factorisation. 0: Newton
+  // from the start. Only without initial damping (a fall stays an overdamped motion).
+  double relax_to_force = 0;
   bool trace = false;  // also SPLINE_SHELL_TRACE in the environment
 };
 
-using ShellSolveReport = real_sheet::DampedNewtonReport;
+struct ShellSolveReport : real_sheet::DampedNewtonReport {
+  int relaxation_iterations = 0;  // preconditioned L-BFGS's, before Newton's `iterations`
+};
 
 // Every control the holds fix (sorted, distinct), after placing the jaws' in x.
 std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x);

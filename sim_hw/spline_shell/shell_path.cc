@@ -214,12 +214,17 @@ VecX replay_stage(ShellModel& model, const std::vector<SquareJaw>& jaws, const V
 VecX carry_to_patch(const ShellModel& from, const VecX& x, const ShellHolds& holds, const ShellModel& to,
                     const ShellPathOptions& options, ShellSolveReport* report) {
   VecX y = refine_controls(from.patch(), x, to.patch());
-  ShellSolveReport r = solve_shell(to, holds, y, options.solve);
+  ShellSolveOptions relaxed = options.solve;
+  relaxed.relax_to_force = options.carry_relax_to_force;
+  ShellSolveReport r = solve_shell(to, holds, y, relaxed);
   if (!r.converged) {
     ShellSolveOptions damped = options.solve;
     damped.initial_damping_1_s2 = options.fall_damping_1_s2;
     damped.max_iterations = std::max(damped.max_iterations, 5000);
+    const ShellSolveReport first = r;
     r = solve_shell(to, holds, y, damped);
+    r.iterations += first.iterations;
+    r.relaxation_iterations += first.relaxation_iterations;
   }
   if (report) *report = r;
   if (!r.converged) throw std::runtime_error("spline shell: the shape carried to the finer patch did not settle: " + r.message);
@@ -269,6 +274,7 @@ CarriedPath carry_path(ShellModel& from, const std::vector<VecX>& x, const std::
       throw std::runtime_error(fmt::format("stage {}: {}", k + 1, e.what()));
     }
     out.iterations += report.iterations;
+    out.relaxation_iterations += report.relaxation_iterations;
   }
   return out;
 }

@@ -28,6 +28,9 @@ struct ShellPathOptions {
   // other stage (false: every level on the coarsest level's branch, what a refinement study
   // compares; a fall's end is a branch choice of the overdamped motion, not a discretisation).
   bool replay_falls = false;
+  // carry_to_patch: relax the carried shape by preconditioned L-BFGS to this fraction of the
+  // weight per control before Newton's method (ShellSolveOptions::relax_to_force; 0: Newton only).
+  double carry_relax_to_force = 1e-6;
 };
 
 struct ShellPathResult {
@@ -74,7 +77,8 @@ struct CarriedPath {
   std::vector<VecX> stages;
   std::vector<ShellHolds> holds;
   std::vector<int> replayed;  // stages (0-based) that fell again on the finer patch
-  int iterations = 0;
+  int iterations = 0;             // Newton's
+  int relaxation_iterations = 0;  // preconditioned L-BFGS's
 };
 CarriedPath carry_path(ShellModel& from, const std::vector<VecX>& x, const std::vector<ShellHolds>& holds, ShellModel& to,
                        const std::vector<SquareJaw>& jaws, const std::vector<real_sheet::PathStage>& stages,

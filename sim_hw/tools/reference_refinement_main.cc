@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: half of every significant fold within this of the other level's folds of its sign");
   app.add_option("--significant-fold-m2", significant_fold_m2, "one branch: folds of this area and more must match");
   ss::ShellPathOptions carry;
+  app.add_option("--relax-to-force", carry.carry_relax_to_force,
+                 "carried shapes relax by preconditioned L-BFGS to this fraction of the weight per control before "
+                 "Newton's method (0: Newton only)");
   app.add_flag("--replay-falls", carry.replay_falls,
                "a stage that opens or closes a jaw falls again on each level (default: carried from the coarser "
                "level's fallen shape, on one branch)");
@@ -138,8 +141,8 @@ int main(int argc, char** argv) {
       }
       std::string replayed;
       for (int k : carried.replayed) replayed += fmt::format("{}{}", replayed.empty() ? "" : ", ", k + 1);
-      fmt::print("level {}: {} x {} controls, {} Newton iterations, {:.0f} s{}\n", level, finer->patch().nu(),
-                 finer->patch().nv(), carried.iterations, seconds_since(t),
+      fmt::print("level {}: {} x {} controls, {} L-BFGS and {} Newton iterations, {:.0f} s{}\n", level,
+                 finer->patch().nu(), finer->patch().nv(), carried.relaxation_iterations, carried.iterations, seconds_since(t),
                  replayed.empty() ? "" : fmt::format(" (stage {} let go and fell again on this level)", replayed));
       std::fflush(stdout);
       record(*finer, carried.stages, carried.holds);
