@@ -223,6 +223,14 @@ real_sheet::JawKind parse_jaw_kind(const std::string& name, const std::string& w
 
 std::string to_string(real_sheet::JawKind kind) { return kind == real_sheet::JawKind::kPivot ? "pivot" : "rigid"; }
 
+bool hidden_under_clamp(const std::vector<twin::ClampSpec>& clamps, const std::vector<twin::ClampPose>& poses,
+                        const twin::Vec2& marker_uv_m, double radius_m) {
+  for (std::size_t c = 0; c < clamps.size() && c < poses.size(); ++c) {
+    if (poses[c].engaged && (marker_uv_m - clamps[c].material_point_m).norm() < radius_m) return true;
+  }
+  return false;
+}
+
 namespace {
 
 double bending_length_m(const twin::Material& m) {

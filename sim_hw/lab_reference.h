@@ -87,6 +87,11 @@ double independent_path_spacing_m(const twin::Material& material);
 twin::SheetMesh twin_reference_mesh(const ReferenceSheet& reference, double width_m, double height_m,
                                     const std::vector<twin::ClampSpec>& clamps);
 
+// Whether a marker is hidden from a scan at a stage: within radius_m (material) of a clamp that
+// is closed there (poses in clamp order).
+bool hidden_under_clamp(const std::vector<twin::ClampSpec>& clamps, const std::vector<twin::ClampPose>& poses,
+                        const twin::Vec2& marker_uv_m, double radius_m);
+
 // Simulates `stages` (poses, times) of a sheet of width x height carrying `marker_uv_m`.
 ReferenceStages simulate_reference(const ReferenceSheet& reference, const twin::Material& truth,
                                    const std::vector<Crease>& creases, double width_m, double height_m,

@@ -275,12 +275,7 @@ LabTrial make_lab_trial(const ScannerLabConfig& config) {
     lab.true_markers_m.push_back(truth_markers);
     std::vector<Vec3> scan;
     for (int m = 0; m < static_cast<int>(truth_markers.size()); ++m) {
-      bool hidden = false;
-      for (std::size_t c = 0; c < trial.clamps.size(); ++c) {
-        hidden |= true_poses[s][c].engaged &&
-                  (trial.marker_uv_m[m] - trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m;
-      }
-      if (hidden) {
+      if (hidden_under_clamp(trial.clamps, true_poses[s], trial.marker_uv_m[m], config.clamp_jaw_radius_m)) {
         stage.observed.markers_m.push_back(Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
         continue;
       }

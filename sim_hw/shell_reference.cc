@@ -64,13 +64,9 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   ReferenceStages out;
   out.size = model->patch().control_count();
   for (std::size_t s = 0; s < x.size() && level_markers.size() >= 2; ++s) {
-    std::vector<bool> counted;  // not hidden by a closed clamp (what a scan sees)
+    std::vector<bool> counted;  // what a scan sees
     for (const twin::Vec2& uv : marker_uv) {
-      bool hidden = false;
-      for (std::size_t c = 0; c < clamps.size(); ++c) {
-        hidden |= stages[s].poses[c].engaged && (uv - clamps[c].material_point_m).norm() < reference.error_hidden_radius_m;
-      }
-      counted.push_back(!hidden);
+      counted.push_back(!hidden_under_clamp(clamps, stages[s].poses, uv, reference.error_hidden_radius_m));
     }
     std::vector<std::vector<twin::Vec3>> markers;
     std::vector<ss::BranchLabel> labels;

@@ -50,13 +50,8 @@ int main(int argc, char** argv) {
                sim_hw::independent_grid_spacing_m(setup.truth), sim_hw::independent_path_spacing_m(setup.truth));
     // Markers a scan sees: not within the jaw radius of a closed clamp.
     const auto seen = [&](std::size_t s, std::size_t m) {
-      for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
-        if (setup.stages[s].poses[c].engaged &&
-            (setup.trial.marker_uv_m[m] - setup.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m) {
-          return false;
-        }
-      }
-      return true;
+      return !sim_hw::hidden_under_clamp(setup.trial.clamps, setup.stages[s].poses, setup.trial.marker_uv_m[m],
+                                         config.clamp_jaw_radius_m);
     };
     // Per stage, mean / max distance of the seen markers between two grids' results.
     const auto compare = [&](const sim_hw::ReferenceStages& a, const sim_hw::ReferenceStages& b) {

@@ -107,20 +107,12 @@ int main(int argc, char** argv) {
       fmt::print("  stage {}: {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1, labels.back()[k].text(), lowest_1_s2.back()[k]);
     }
     std::fflush(stdout);
-    // Markers a scan sees: not within the jaw radius of a closed clamp.
-    const auto seen = [&](std::size_t s, std::size_t m) {
-      for (std::size_t c = 0; c < setup.trial.clamps.size(); ++c) {
-        if (setup.stages[s].poses[c].engaged &&
-            (setup.trial.marker_uv_m[m] - setup.trial.clamps[c].material_point_m).norm() < config.clamp_jaw_radius_m) {
-          return false;
-        }
-      }
-      return true;
-    };
     const ss::BranchMatch match{branch_tolerance_m, significant_fold_m2};
     std::vector<std::vector<bool>> counted(stages.size());  // per stage, the markers a scan sees
     for (std::size_t k = 0; k < stages.size(); ++k) {
-      for (std::size_t m = 0; m < setup.trial.marker_uv_m.size(); ++m) counted[k].push_back(seen(k, m));
+      for (const ss::Vec2& uv : setup.trial.marker_uv_m) {
+        counted[k].push_back(!sim_hw::hidden_under_clamp(setup.trial.clamps, setup.stages[k].poses, uv, config.clamp_jaw_radius_m));
+      }
     }
     // Stage s's levels so far, for the estimate.
     const auto refinement = [&](std::size_t s) {

@@ -241,6 +241,27 @@ TEST_CASE("the independent truth follows the lab's protocol and says so", "[sim_
   CHECK(j.at("truth_model") == "independent");
   CHECK(j.at("jaws") == "rigid");
   CHECK_THAT(j.at("reference").get<std::string>(), Catch::Contains("grid"));
+  CHECK_FALSE(j.contains("truth_error"));  // the plate has no levels to compare
+  // A truth that knows its own error writes it per stage, null where it has no estimate.
+  LabTrial known = lab;
+  known.truth_error.resize(lab.trial.stages.size());
+  known.truth_error[0].finest_change_mean_m = 3e-4;
+  known.truth_error[0].finest_change_max_m = 2e-3;
+  known.truth_error[0].order = 2.1;
+  known.truth_error[0].estimated_m = 1e-4;
+  known.truth_error[1].one_branch = false;
+  write_lab_trial(known, config, (dir / "trial2").string(), (dir / "truth2").string());
+  std::ifstream in2(dir / "truth2" / "lab.json");
+  const nlohmann::json k = nlohmann::json::parse(in2);
+  REQUIRE(k.at("truth_error").size() == lab.trial.stages.size());
+  const nlohmann::json& first = k.at("truth_error")[0];
+  CHECK(first.at("stage") == lab.trial.stages[0].id);
+  CHECK(first.at("finest_change_mean_m").get<double>() == Approx(3e-4));
+  CHECK(first.at("finest_change_max_m").get<double>() == Approx(2e-3));
+  CHECK(first.at("order").get<double>() == Approx(2.1));
+  CHECK(first.at("estimated_error_m").get<double>() == Approx(1e-4));
+  CHECK(k.at("truth_error")[1].at("one_branch") == false);
+  CHECK(k.at("truth_error")[1].at("estimated_error_m").is_null());
 }
 
 // The spline shell truth on a small sheet and coarse spans (seconds): two jaws lift it, one
