@@ -70,7 +70,10 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
     }
     std::vector<std::vector<twin::Vec3>> markers;
     std::vector<ss::BranchLabel> labels;
-    for (std::size_t l = 0; l < level_markers.size(); ++l) markers.push_back(level_markers[l][s]), labels.push_back(level_labels[l][s]);
+    for (std::size_t l = 0; l < level_markers.size(); ++l) {
+      markers.push_back(level_markers[l][s]);
+      labels.push_back(level_labels[l][s]);
+    }
     const ss::StageRefinement r = ss::stage_refinement(markers, labels, counted);
     TruthError e;
     e.finest_change_mean_m = r.finest().mean_m;
@@ -78,8 +81,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
     e.one_branch = r.finest().same_branch;
     e.order = r.order;
     e.estimated_m = r.finest_error_m;
-    for (std::size_t l = 0; l < r.changes.size(); ++l) e.text += (l ? "  " : "") + ss::change_text(static_cast<int>(l), r.changes[l]);
-      if (r.changes.size() >= 2) e.text += "; " + ss::estimate_text(r);
+    e.text = ss::summary_text(r);
     out.truth_error.push_back(std::move(e));
   }
   for (const ss::VecX& xs : x) {

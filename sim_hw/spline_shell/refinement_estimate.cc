@@ -63,4 +63,11 @@ std::string estimate_text(const StageRefinement& r) {
                      1.25e3 * *r.finest_error_m);
 }
 
+std::string summary_text(const StageRefinement& r) {
+  std::string text;
+  for (std::size_t l = 0; l < r.changes.size(); ++l) text += (l ? "  " : "") + change_text(static_cast<int>(l), r.changes[l]);
+  if (r.changes.size() >= 2) text += "  | " + estimate_text(r);
+  return text;
+}
+
 }  // namespace sim_hw::spline_shell

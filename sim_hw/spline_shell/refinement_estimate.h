@@ -50,4 +50,8 @@ std::string change_text(int level, const LevelChange& change);
 // "order 2.21, finest error 0.101 mm (GCI 0.126)" or "no order: <why>".
 std::string estimate_text(const StageRefinement& r);
 
+// Every change, then the estimate where there are two changes or more:
+// "0->1 1.703 / 8.911 mm  1->2 0.367 / 1.707 mm  | order 2.21, ...".
+std::string summary_text(const StageRefinement& r);
+
 }  // namespace sim_hw::spline_shell

@@ -153,10 +153,7 @@ int main(int argc, char** argv) {
                config.seed);
     for (std::size_t s = 0; s < x.size(); ++s) {
       const ss::StageRefinement r = refinement(s);
-      std::string line = fmt::format("stage {}:", s + 1);
-      for (std::size_t l = 0; l < r.changes.size(); ++l) line += "  " + ss::change_text(static_cast<int>(l), r.changes[l]);
-      if (r.changes.size() >= 2) line += "  | " + ss::estimate_text(r);
-      fmt::print("{}\n", line);
+      fmt::print("stage {}:  {}\n", s + 1, ss::summary_text(r));
       std::string lambdas;
       for (int l = 0; l < levels; ++l) lambdas += fmt::format("{}{:.3g}", l ? " / " : "", lowest_1_s2[l][s]);
       fmt::print("         finest branch: {}; lowest eigenvalue per level {} 1/s^2\n", labels.back()[s].text(), lambdas);

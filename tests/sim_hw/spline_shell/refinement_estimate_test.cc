@@ -50,6 +50,8 @@ TEST_CASE("refinement estimate: second order changes give order 2 and a third of
   CHECK(*r.finest_error_m == Approx(0.0005 / 3.0));
   CHECK(ss::estimate_text(r) == "order 2.00, finest error 0.167 mm (GCI 0.208)");
   CHECK(ss::change_text(1, r.finest()) == "1->2 0.500 / 1.000 mm");
+  CHECK(ss::summary_text(r) ==
+        "0->1 2.000 / 4.000 mm  1->2 0.500 / 1.000 mm  | order 2.00, finest error 0.167 mm (GCI 0.208)");
 }
 
 TEST_CASE("refinement estimate: no order from a branch flip, from two levels or from growing changes",

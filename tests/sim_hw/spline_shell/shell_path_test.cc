@@ -9,22 +9,38 @@
 
 namespace ss = sim_hw::spline_shell;
 
+namespace {
+
+constexpr double W = 0.3, H = 0.25;
+
+// Two jaws near the top corners of a 30 x 25 cm sheet.
+std::vector<ss::SquareJaw> two_jaws() {
+  return {ss::square_jaw("A", ss::Vec2(0.05, 0.21), 0.015, W, H), ss::square_jaw("B", ss::Vec2(0.25, 0.21), 0.015, W, H)};
+}
+
+twin::ClampPose pose(double x, double z, bool engaged) {
+  twin::ClampPose p;
+  p.position_m = ss::Vec3(x, 0.0, z);
+  p.engaged = engaged;
+  return p;
+}
+
+// Gripped level and let go, B moved 4 cm in (a sag), B opened (its side falls).
+std::vector<sim_hw::real_sheet::PathStage> lift_sag_release() {
+  std::vector<sim_hw::real_sheet::PathStage> stages(3);
+  stages[0].poses = {pose(0.05, 0.5, true), pose(0.25, 0.5, true)};
+  stages[1].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, true)};
+  stages[2].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, false)};
+  return stages;
+}
+
+}  // namespace
+
 TEST_CASE("spline shell: a replayed stage reaches what the path reached", "[spline_shell][path]") {
-  const double W = 0.3, H = 0.25;
-  const std::vector<ss::SquareJaw> jaws = {ss::square_jaw("A", ss::Vec2(0.05, 0.21), 0.015, W, H),
-                                           ss::square_jaw("B", ss::Vec2(0.25, 0.21), 0.015, W, H)};
+  const std::vector<ss::SquareJaw> jaws = two_jaws();
   ss::ShellModel model(ss::SplinePatch(ss::jaw_knots(3, W, 0, jaws, 0.06, 0.015), ss::jaw_knots(3, H, 1, jaws, 0.06, 0.015)),
                        shell_fixtures::composite());
-  const auto pose = [](double x, double z, bool engaged) {
-    twin::ClampPose p;
-    p.position_m = ss::Vec3(x, 0.0, z);
-    p.engaged = engaged;
-    return p;
-  };
-  std::vector<sim_hw::real_sheet::PathStage> stages(3);
-  stages[0].poses = {pose(0.05, 0.5, true), pose(0.25, 0.5, true)};   // gripped level, let go
-  stages[1].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, true)};   // B moves 4 cm in: a sag
-  stages[2].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, false)};  // B opens: the side falls
+  const std::vector<sim_hw::real_sheet::PathStage> stages = lift_sag_release();
   const ss::ShellPathResult path = ss::follow_path(model, jaws, stages);
   INFO(path.failure);
   REQUIRE(path.usable());
@@ -49,22 +65,11 @@ TEST_CASE("spline shell: a replayed stage reaches what the path reached", "[spli
 
 TEST_CASE("spline shell: a carried path keeps its falls on the coarse branch unless told to replay them",
           "[spline_shell][path]") {
-  const double W = 0.3, H = 0.25;
-  const std::vector<ss::SquareJaw> jaws = {ss::square_jaw("A", ss::Vec2(0.05, 0.21), 0.015, W, H),
-                                           ss::square_jaw("B", ss::Vec2(0.25, 0.21), 0.015, W, H)};
+  const std::vector<ss::SquareJaw> jaws = two_jaws();
   const ss::KnotVector ku = ss::jaw_knots(3, W, 0, jaws, 0.06, 0.015), kv = ss::jaw_knots(3, H, 1, jaws, 0.06, 0.015);
   ss::ShellModel coarse(ss::SplinePatch(ku, kv), shell_fixtures::composite());
   ss::ShellModel fine(ss::SplinePatch(ss::refined(ku), ss::refined(kv)), shell_fixtures::composite());
-  const auto pose = [](double x, double z, bool engaged) {
-    twin::ClampPose p;
-    p.position_m = ss::Vec3(x, 0.0, z);
-    p.engaged = engaged;
-    return p;
-  };
-  std::vector<sim_hw::real_sheet::PathStage> stages(3);
-  stages[0].poses = {pose(0.05, 0.5, true), pose(0.25, 0.5, true)};
-  stages[1].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, true)};
-  stages[2].poses = {pose(0.05, 0.5, true), pose(0.21, 0.5, false)};
+  const std::vector<sim_hw::real_sheet::PathStage> stages = lift_sag_release();
   const ss::ShellPathResult path = ss::follow_path(coarse, jaws, stages);
   REQUIRE(path.usable());
   const ss::Vec2 corner(0.28, 0.02);  // the released side's far corner: where a fall ends shows most
