@@ -51,15 +51,12 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
   }
   const double core = 1.0 / options.fold_radius_m, rim = 0.5 * core;
   std::vector<char> taken(kappa.size(), 0);
-  BranchLabel label;
   std::vector<int> stack;
-  for (int start = 0; start < static_cast<int>(kappa.size()); ++start) {
-    if (taken[start] || std::abs(kappa[start]) < core) continue;
-    const int sign = kappa[start] > 0 ? 1 : -1;
+  // The region of one sign tighter than the rim that holds `start`, its cells marked taken.
+  const auto grow = [&](int start) {
     Fold fold;
-    fold.sign = sign;
+    fold.sign = kappa[start] > 0 ? 1 : -1;
     Vec2 sum = Vec2::Zero();
-    int cells = 0;
     stack.assign(1, start);
     taken[start] = 1;
     while (!stack.empty()) {
@@ -68,21 +65,32 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
       const int i = c % nu, j = c / nu;
       fold.cells_m.push_back(Vec2((i + 0.5) * du, (j + 0.5) * dv));
       sum += fold.cells_m.back();
-      ++cells;
       fold.peak_curvature_1_m = std::max(fold.peak_curvature_1_m, std::abs(kappa[c]));
       const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
       for (const auto& nb : neighbours) {
         if (nb[0] < 0 || nb[0] >= nu || nb[1] < 0 || nb[1] >= nv) continue;
         const int m = nb[1] * nu + nb[0];
-        if (!taken[m] && sign * kappa[m] >= rim) {
+        if (!taken[m] && fold.sign * kappa[m] >= rim) {
           taken[m] = 1;
           stack.push_back(m);
         }
       }
     }
-    fold.area_m2 = cells * du * dv;
-    fold.centre_m = sum / cells;
-    if (fold.area_m2 >= options.least_area_m2) label.folds.push_back(fold);
+    fold.area_m2 = static_cast<double>(fold.cells_m.size()) * du * dv;
+    fold.centre_m = sum / static_cast<double>(fold.cells_m.size());
+    return fold;
+  };
+  BranchLabel label;
+  // Folds first (grown from their cores), then what is left tighter than the rim: bends.
+  for (int start = 0; start < static_cast<int>(kappa.size()); ++start) {
+    if (taken[start] || std::abs(kappa[start]) < core) continue;
+    Fold fold = grow(start);
+    if (fold.area_m2 >= options.least_area_m2) label.folds.push_back(std::move(fold));
+  }
+  for (int start = 0; start < static_cast<int>(kappa.size()); ++start) {
+    if (taken[start] || std::abs(kappa[start]) < rim) continue;
+    Fold bend = grow(start);
+    if (bend.area_m2 >= options.least_area_m2) label.bends.push_back(std::move(bend));
   }
   std::sort(label.folds.begin(), label.folds.end(), [](const Fold& a, const Fold& b) { return a.area_m2 > b.area_m2; });
   return label;
@@ -91,13 +99,19 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
 bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m, double significant_area_m2,
                  std::string* why) {
   // Every significant fold of one label must lie, for at least half its cells, within
-  // tolerance_m of cells of same-signed folds in the other: a fold that splits in two, merges or
-  // shrinks between levels is still there, a flap turned over or a fold gone is not.
+  // tolerance_m of cells of same-signed folds or bends in the other: a fold that splits in two,
+  // merges, shrinks or sharpens out of a bend between levels is still there, a flap turned over
+  // or a fold gone is not.
   const auto covered = [&](const Fold& f, const BranchLabel& in) {
+    std::vector<const Fold*> regions;
+    for (const auto* list : {&in.folds, &in.bends}) {
+      for (const Fold& g : *list) regions.push_back(&g);
+    }
     int near = 0;
     for (const Vec2& p : f.cells_m) {
       bool found = false;
-      for (const Fold& g : in.folds) {
+      for (const Fold* gp : regions) {
+        const Fold& g = *gp;
         if (g.sign != f.sign) continue;
         for (const Vec2& q : g.cells_m) {
           if ((q - p).squaredNorm() <= tolerance_m * tolerance_m) {

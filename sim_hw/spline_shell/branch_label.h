@@ -26,6 +26,10 @@ struct Fold {
 
 struct BranchLabel {
   std::vector<Fold> folds;  // largest first
+  // Bends: regions tighter than twice the fold radius with no core tighter than it, of at least
+  // the least area. A coarser level draws a fold it resolves too coarsely as a bend of the same
+  // sign in the same place: a fold that sharpens under refinement, not another branch.
+  std::vector<Fold> bends;
   // "2 folds: +(120, 310) mm 31 cm^2, -(400, 95) mm 12 cm^2" or "no fold".
   std::string text() const;
 };
@@ -39,8 +43,8 @@ struct FoldOptions {
 BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOptions& options = {});
 
 // Same branch: every fold of at least significant_area_m2 in either label lies, for at least half
-// its cells, within tolerance_m of the other's folds of the same sign. A fold may split, merge or
-// shrink between levels, and smaller folds come and go (a region near the fold radius grows past
+// its cells, within tolerance_m of the other's folds or bends of the same sign. A fold may split,
+// merge, shrink or sharpen out of a bend between levels, and smaller folds come and go (a region near the fold radius grows past
 // the least area on one level and not on the next); a flap that turned over, or a fold that is
 // gone or moved by more than its width, is another branch. `why` says which fold differs.
 bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m = 0.02, double significant_area_m2 = 1e-3,

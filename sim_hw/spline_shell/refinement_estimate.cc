@@ -25,7 +25,8 @@ StageRefinement stage_refinement(const std::vector<std::vector<Vec3>>& markers, 
     for (std::size_t m = 0; m < counted.size(); ++m) {
       if (!counted[m]) continue;
       const double d = (markers[l][m] - markers[l + 1][m]).norm();
-      c.mean_m += d, c.max_m = std::max(c.max_m, d), ++n;
+      if (d > c.max_m || c.max_marker < 0) c.max_m = d, c.max_marker = static_cast<int>(m);
+      c.mean_m += d, ++n;
     }
     c.mean_m /= std::max(n, 1);
     c.same_branch = same_branch(labels[l], labels[l + 1], match.tolerance_m, match.significant_fold_m2, &c.why);

@@ -17,6 +17,7 @@ namespace sim_hw::spline_shell {
 
 struct LevelChange {
   double mean_m = 0, max_m = 0;  // over the counted markers
+  int max_marker = -1;            // the marker that moved most (say where the change is)
   bool same_branch = true;
   std::string why;  // the fold that differs, when not one branch
 };

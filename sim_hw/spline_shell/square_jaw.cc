@@ -27,6 +27,11 @@ std::pair<double, double> pad_interval(const SquareJaw& jaw, int axis, double le
   return {std::max(0.0, c - jaw.half_side_m), std::min(length_m, c + jaw.half_side_m)};
 }
 
+double distance_to_pad_m(const SquareJaw& jaw, const Vec2& uv_m) {
+  const Vec2 outside = ((uv_m - jaw.material_point_m).cwiseAbs().array() - jaw.half_side_m).cwiseMax(0.0);
+  return outside.norm();
+}
+
 KnotVector jaw_knots(int degree, double length_m, int axis, const std::vector<SquareJaw>& jaws, double span_m,
                      double fine_span_m) {
   std::vector<real_sheet::GridAttractor> attractors;

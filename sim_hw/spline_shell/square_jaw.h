@@ -38,6 +38,9 @@ SquareJaw square_jaw(const std::string& id, const Vec2& material_point_m, double
 // The pad's interval along u (axis 0) or v (axis 1), clipped to [0, length].
 std::pair<double, double> pad_interval(const SquareJaw& jaw, int axis, double length_m);
 
+// The material distance (m) from uv to the jaw's pad, 0 inside it.
+double distance_to_pad_m(const SquareJaw& jaw, const Vec2& uv_m);
+
 // One direction's knots for a sheet of `length_m` held by `jaws`: spans of at most `span_m`,
 // graded to `fine_span_m` around every pad edge (growing by 1.3 per span away from it), and the
 // pad edges as knots of multiplicity p - 1. Bisecting every span (refined) keeps them.

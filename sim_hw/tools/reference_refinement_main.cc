@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -34,6 +36,32 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Where a change between two levels is: the marker that moved most and its distance from the
+// nearest pad, and the mean change near the jaws (within `near_m` of a pad) and away from them,
+// which tells a jaw's boundary layer from a fold or a free edge.
+std::string where_text(const ss::LevelChange& c, const std::vector<ss::Vec3>& coarse, const std::vector<ss::Vec3>& fine,
+                       const std::vector<bool>& counted, const std::vector<ss::Vec2>& uv,
+                       const std::vector<ss::SquareJaw>& jaws, double near_m) {
+  if (c.max_marker < 0 || jaws.empty()) return "";
+  const auto nearest = [&](const ss::Vec2& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const ss::SquareJaw& j : jaws) d = std::min(d, ss::distance_to_pad_m(j, p));
+    return d;
+  };
+  double sum_near = 0, sum_far = 0;
+  int n_near = 0, n_far = 0;
+  for (std::size_t m = 0; m < counted.size(); ++m) {
+    if (!counted[m]) continue;
+    const double d = (coarse[m] - fine[m]).norm();
+    if (nearest(uv[m]) < near_m) sum_near += d, ++n_near;
+    else sum_far += d, ++n_far;
+  }
+  const ss::Vec2& p = uv[c.max_marker];
+  return fmt::format("largest at ({:.0f}, {:.0f}) mm, {:.0f} mm from a pad; mean {:.3f} mm within {:.0f} mm of a pad "
+                     "({} markers), {:.3f} mm beyond ({})", 1e3 * p.x(), 1e3 * p.y(), 1e3 * nearest(p),
+                     1e3 * sum_near / std::max(n_near, 1), 1e3 * near_m, n_near, 1e3 * sum_far / std::max(n_far, 1), n_far);
 }
 
 }  // namespace
@@ -140,8 +168,16 @@ int main(int argc, char** argv) {
       record(*finer, carried.stages, carried.holds);
       // This level against the one before, as soon as it is known (a long study can be read as it goes).
       for (std::size_t k = 0; k < carried.stages.size(); ++k) {
-        fmt::print("  stage {}: {}; {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1,
-                   ss::change_text(level - 1, refinement(k).finest()), labels.back()[k].text(), lowest_1_s2.back()[k]);
+        const ss::StageRefinement so_far = refinement(k);
+        const ss::LevelChange& change = so_far.finest();
+        std::vector<ss::SquareJaw> held;  // clamp_jaws keeps the clamps' order
+        for (std::size_t c = 0; c < jaws.size(); ++c) {
+          if (setup.stages[k].poses[c].engaged) held.push_back(jaws[c]);
+        }
+        fmt::print("  stage {}: {}; {}; lowest eigenvalue {:.3g} 1/s^2\n    {}\n", k + 1, ss::change_text(level - 1, change),
+                   labels.back()[k].text(), lowest_1_s2.back()[k],
+                   where_text(change, markers[level - 1][k], markers[level][k], counted[k], setup.trial.marker_uv_m, held,
+                              0.05));
       }
       std::fflush(stdout);
       x = std::move(carried.stages);

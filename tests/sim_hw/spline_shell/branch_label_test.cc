@@ -1,6 +1,7 @@
 // Branch labels name a shape by its folds: a hairpin fold is found where it is, with its sign and
 // area; the same fold on a finer patch is the same branch; the fold turned the other way, or
-// moved by more than its width, is another; a gently curved sheet has none.
+// moved by more than its width, is another; a fold a coarser level draws as a bend in its place
+// is the same; a gently curved sheet has none.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -67,6 +68,16 @@ TEST_CASE("spline shell: labels tell the same fold on a finer patch from a turne
   CHECK(none.text() == "no fold");
   CHECK_FALSE(ss::same_branch(none, b, 0.01, 1e-3, &why));
   CHECK(why.find("+fold at (") != std::string::npos);
+  // A fold the coarser level draws as a bend (radius 4.5 cm: tighter than twice the fold radius,
+  // not than it) is the same fold, sharpened; the bend turned the other way is not.
+  const ss::BranchLabel bent = ss::branch_label(coarse, hairpin(coarse, 0.03, 0.045, +1));
+  INFO(bent.text());
+  CHECK(bent.folds.empty());
+  REQUIRE(bent.bends.size() == 1);
+  CHECK(bent.bends.front().sign == 1);
+  CHECK(ss::same_branch(bent, b, 0.01));
+  CHECK_FALSE(ss::same_branch(ss::branch_label(coarse, hairpin(coarse, 0.03, 0.045, -1)), b, 0.01));
+  CHECK(none.bends.empty());  // 10 cm is no bend either
   // A fold smaller than the significant area may come and go between levels.
   ss::BranchLabel with_small = b;
   with_small.folds.push_back({-1, ss::Vec2(0.18, 0.02), 5e-4, 40.0, {ss::Vec2(0.18, 0.02)}});

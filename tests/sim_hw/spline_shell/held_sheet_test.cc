@@ -42,6 +42,10 @@ TEST_CASE("spline shell: square jaws hold their pads rigidly and nothing else", 
   int moved = 0;
   for (int k = 0; k < patch.control_count(); ++k) moved += (x.segment<3>(3 * k) - flat.segment<3>(3 * k)).norm() > 0;
   CHECK(moved == static_cast<int>(held.size()));
+  // Distances from the pad: none inside, to its side along an axis, to its corner diagonally.
+  CHECK(ss::distance_to_pad_m(jaws[0], jaws[0].material_point_m + ss::Vec2(0.5 * a, -0.9 * a)) == 0.0);
+  CHECK(ss::distance_to_pad_m(jaws[0], jaws[0].material_point_m + ss::Vec2(a + 0.01, 0.2 * a)) == Approx(0.01));
+  CHECK(ss::distance_to_pad_m(jaws[0], jaws[0].material_point_m - ss::Vec2(a + 0.03, a + 0.04)) == Approx(0.05));
 }
 
 TEST_CASE("spline shell: a sheet held by two jaws converges under refinement and hangs from them", "[spline_shell]") {

@@ -45,6 +45,7 @@ TEST_CASE("refinement estimate: second order changes give order 2 and a third of
   CHECK(r.changes[0].mean_m == Approx(0.002));
   CHECK(r.changes[1].mean_m == Approx(0.0005));
   CHECK(r.finest().max_m == Approx(0.001));
+  CHECK(r.finest().max_marker == 0);  // the moving one, not the hidden one's metre
   REQUIRE(r.estimated());
   CHECK(*r.order == Approx(2.0));
   CHECK(*r.finest_error_m == Approx(0.0005 / 3.0));
