@@ -32,7 +32,7 @@ struct ScannerLabConfig {
   // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default),
   // the reference spline shell, or the twin's own model (for comparison: the twin scoring itself).
   TruthModel truth_model = TruthModel::kIndependent;
-  // Spline shell: bisections above its coarsest level (4 cm spans, 1 cm at the jaws).
+  // Spline shell: bisections above its coarsest level (2 cm spans, 1 cm at the jaws).
   int shell_levels = 1;
   // Independent model: the grid's largest spacing (m; 0: the default for the material)
   // and whether the jaws hold the sheet rigidly or let it turn about their centre.

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
-  double span_m = 0.04, fine_span_m = 0.01, branch_tolerance_m = 0.02, significant_fold_m2 = 1e-3;
+  double span_m = 0.02, fine_span_m = 0.01, branch_tolerance_m = 0.02, significant_fold_m2 = 1e-3;
   std::size_t stage_count = 0;
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");

@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
                  "reference shell on B-splines (docs/reference_sheet.md; minutes per trial); twin: the twin's shell "
                  "model (the twin scoring itself)");
   app.add_option("--shell-levels", config.shell_levels,
-                 "spline_shell: bisections above its coarsest level (4 cm spans, 1 cm at the jaws; default 1)")
+                 "spline_shell: bisections above its coarsest level (2 cm spans, 1 cm at the jaws; default 1)")
       ->check(CLI::Range(0, 3));
   app.add_option("--grid-spacing-m", config.grid_spacing_m,
                  "independent model: largest grid spacing (m; default: min(2 cm, 0.3 bending length))");
