@@ -44,9 +44,10 @@ BranchLabel branch_label(const SplinePatch& patch, const VecX& x, const FoldOpti
 
 // Same branch: every fold of at least significant_area_m2 in either label lies, for at least half
 // its cells, within tolerance_m of the other's folds or bends of the same sign. A fold may split,
-// merge, shrink or sharpen out of a bend between levels, and smaller folds come and go (a region near the fold radius grows past
-// the least area on one level and not on the next); a flap that turned over, or a fold that is
-// gone or moved by more than its width, is another branch. `why` says which fold differs.
+// merge, shrink or sharpen out of a bend between levels, and smaller folds come and go (a region
+// near the fold radius grows past the least area on one level and not on the next); a flap that
+// turned over, or a fold that is gone or moved by more than its width, is another branch. `why`
+// says which fold differs.
 bool same_branch(const BranchLabel& a, const BranchLabel& b, double tolerance_m = 0.02, double significant_area_m2 = 1e-3,
                  std::string* why = nullptr);
 
