@@ -44,8 +44,8 @@ struct ReferenceSheet {
   // Spline shell: degree, level 0's largest span and its span at the jaws' edges (m), and how
   // many bisections above level 0 the markers are read on. Level 0 at 2 cm is the coarsest
   // whose folded stages are in the asymptotic range (docs/reference_sheet.md: from 4 cm, folds
-  // the 4 and 2 cm levels smeared into bends appeared at 1 cm, and the composite's markers still
-  // moved 0.4-0.7 mm between 2 and 1 cm where from 2 cm they move 0.2-0.3 mm to 5 mm).
+  // the 4 and 2 cm levels smeared into bends appeared at 1 cm, and elsewhere the composite's markers
+  // still moved 0.4-0.7 mm between 2 and 1 cm; from 2 cm they move 0.2-0.3 mm to 5 mm).
   int shell_degree = 3;
   double shell_span_m = 0.02, shell_jaw_span_m = 0.01;
   int shell_levels = 1;
