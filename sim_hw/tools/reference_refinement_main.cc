@@ -18,8 +18,8 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
-#include <string>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -174,10 +174,11 @@ int main(int argc, char** argv) {
         for (std::size_t c = 0; c < jaws.size(); ++c) {
           if (setup.stages[k].poses[c].engaged) held.push_back(jaws[c]);
         }
-        fmt::print("  stage {}: {}; {}; lowest eigenvalue {:.3g} 1/s^2\n    {}\n", k + 1, ss::change_text(level - 1, change),
-                   labels.back()[k].text(), lowest_1_s2.back()[k],
-                   where_text(change, markers[level - 1][k], markers[level][k], counted[k], setup.trial.marker_uv_m, held,
-                              0.05));
+        fmt::print("  stage {}: {}; {}; lowest eigenvalue {:.3g} 1/s^2\n", k + 1, ss::change_text(level - 1, change),
+                   labels.back()[k].text(), lowest_1_s2.back()[k]);
+        const std::string where =
+            where_text(change, markers[level - 1][k], markers[level][k], counted[k], setup.trial.marker_uv_m, held, 0.05);
+        if (!where.empty()) fmt::print("    {}\n", where);
       }
       std::fflush(stdout);
       x = std::move(carried.stages);
