@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "sim_hw/spline_shell/branch_label.h"
+#include "sim_hw/spline_shell/jaw_grip.h"
 #include "sim_hw/spline_shell/refinement_estimate.h"
 #include "sim_hw/spline_shell/shell_path.h"
 
@@ -25,8 +26,11 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   for (const Crease& c : creases) material.creases.push_back({c.point_m, c.direction_rad, c.angle_rad, 0.015});
   const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(clamps, w, h);
   const std::vector<rs::PathStage> path_stages = rs::path_stages(stages);
-  ss::KnotVector ku = ss::jaw_knots(reference.shell_degree, w, 0, jaws, reference.shell_span_m, reference.shell_jaw_span_m);
-  ss::KnotVector kv = ss::jaw_knots(reference.shell_degree, h, 1, jaws, reference.shell_span_m, reference.shell_jaw_span_m);
+  const double ring_m = ss::jaw_grip(material).knot_extension_m();  // wide jaws' ring edges
+  ss::KnotVector ku =
+      ss::jaw_knots(reference.shell_degree, w, 0, jaws, reference.shell_span_m, reference.shell_jaw_span_m, ring_m);
+  ss::KnotVector kv =
+      ss::jaw_knots(reference.shell_degree, h, 1, jaws, reference.shell_span_m, reference.shell_jaw_span_m, ring_m);
   auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, marker_uv);
   const ss::ShellPathResult path = ss::follow_path(*model, jaws, path_stages);
   if (!path.usable()) throw std::runtime_error("the spline shell reference failed at " + path.failure);

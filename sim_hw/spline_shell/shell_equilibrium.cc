@@ -6,27 +6,48 @@
 #include <limits>
 
 #include "sim_hw/real_sheet/cholesky.h"
+#include "sim_hw/spline_shell/jaw_grip.h"
 #include "sim_hw/spline_shell/preconditioned_lbfgs.h"
 
 namespace sim_hw::spline_shell {
 
 std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x) {
   std::vector<int> fixed = holds.fixed_controls;
+  const JawGrip grip = jaw_grip(model.material());
   for (const JawHold& h : holds.jaws) {
+    // Slipping jaws' controls are placed too (the rigid motion is their predictor) but left free.
     const std::vector<int> held = held_controls(model.patch(), h.jaw);
     place_held_controls(model.patch(), h.jaw, held, h.centre_m, h.rotation, x);
-    fixed.insert(fixed.end(), held.begin(), held.end());
+    if (grip.fixes_controls()) fixed.insert(fixed.end(), held.begin(), held.end());
   }
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
   return fixed;
 }
 
-Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, const VecX& x) {
-  VecX g = VecX::Zero(model.dof_count());
+double holds_energy(const ShellModel& model, const ShellHolds& holds, const VecX& x, VecX* gradient,
+                    BlockSparseMatrix* hessian) {
+  const JawGrip grip = jaw_grip(model.material());
+  double energy = 0;
+  for (const JawHold& h : holds.jaws) {
+    energy += grip_energy(model.patch(), grip, h.jaw, h.centre_m, h.rotation, x, gradient, hessian);
+  }
+  return energy;
+}
+
+Vec3 holding_force_N(const ShellModel& model, const ShellHolds& holds, const VecX& x) {
+  // On a fixed control the jaw's reaction balances the shell's and the springs' gradients; on
+  // every control the springs pull with minus theirs: the springs' share on fixed controls cancels.
+  VecX y = x;
+  std::vector<char> fixed(model.patch().control_count(), 0);
+  for (int c : apply_holds(model, holds, y)) fixed[c] = 1;
+  VecX g = VecX::Zero(model.dof_count()), springs = VecX::Zero(model.dof_count());
   model.energy(x, &g, nullptr);
+  holds_energy(model, holds, x, &springs, nullptr);
   Vec3 f = Vec3::Zero();
-  for (int c : held) f -= g.segment<3>(3 * c);
+  for (int c = 0; c < model.patch().control_count(); ++c) {
+    f += fixed[c] ? Vec3(g.segment<3>(3 * c)) : Vec3(-springs.segment<3>(3 * c));
+  }
   return f;
 }
 
@@ -36,6 +57,7 @@ double lowest_eigenvalue_1_s2(const ShellModel& model, const ShellHolds& holds, 
   for (int c : apply_holds(model, holds, y)) fixed[c] = 1;
   BlockSparseMatrix H = model.hessian_pattern();
   model.energy(y, nullptr, &H, Hessian::kExact);
+  holds_energy(model, holds, y, nullptr, &H);
   H.fix_blocks(fixed);
   real_sheet::Cholesky cholesky;
   if (!cholesky.factorize(H)) return std::numeric_limits<double>::quiet_NaN();
@@ -60,10 +82,13 @@ namespace {
 // the Hessian the identity's, so no step moves them.
 class HeldShell final : public real_sheet::NewtonProblem {
  public:
-  HeldShell(const ShellModel& model, std::vector<char> fixed, VecX& x) : model_(model), fixed_(std::move(fixed)), x_(x) {}
+  HeldShell(const ShellModel& model, const ShellHolds& holds, std::vector<char> fixed, VecX& x)
+      : model_(model), holds_(holds), fixed_(std::move(fixed)), x_(x) {}
   double energy_at(const VecX* dx, double alpha, VecX* g) const override {
     if (g) *g = VecX::Zero(model_.dof_count());
-    const double e = dx ? model_.energy(x_ + alpha * *dx, g, nullptr) : model_.energy(x_, g, nullptr);
+    const VecX moved = dx ? VecX(x_ + alpha * *dx) : VecX();
+    const VecX& at = dx ? moved : x_;
+    const double e = model_.energy(at, g, nullptr) + holds_energy(model_, holds_, at, g, nullptr);
     if (g) {
       for (std::size_t c = 0; c < fixed_.size(); ++c) {
         if (fixed_[c]) g->segment<3>(3 * c).setZero();
@@ -74,6 +99,7 @@ class HeldShell final : public real_sheet::NewtonProblem {
   void hessian(BlockSparseMatrix& H, Hessian kind) const override {
     H.set_zero();
     model_.energy(x_, nullptr, &H, kind);
+    holds_energy(model_, holds_, x_, nullptr, &H);
     H.fix_blocks(fixed_);
   }
   void move(const VecX& dx, double alpha) override { x_ = x_ + alpha * dx; }
@@ -83,6 +109,7 @@ class HeldShell final : public real_sheet::NewtonProblem {
 
  private:
   const ShellModel& model_;
+  const ShellHolds& holds_;
   std::vector<char> fixed_;
   VecX& x_;
   VecX saved_;
@@ -108,7 +135,7 @@ ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, V
   newton.step_limit_m = options.step_limit_m;
   newton.shifted_exact = true;
   newton.trace = options.trace || std::getenv("SPLINE_SHELL_TRACE") != nullptr;
-  HeldShell problem(model, std::move(fixed), x);
+  HeldShell problem(model, holds, std::move(fixed), x);
   ShellSolveReport report;
   if (options.relax_to_force > 0 && options.initial_damping_1_s2 == 0) {
     LbfgsOptions relax;

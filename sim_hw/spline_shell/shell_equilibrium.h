@@ -1,10 +1,12 @@
 #pragma once
 // Static equilibrium of the reference sheet: the shell (shell_model.h) with some control points
-// held where they are put: the square jaws' (square_jaw.h, placed at each jaw's pose) and any
-// other fixed controls (a clamped edge's first two rows hold its position and slope). The free
+// held where they are put: the square jaws' (square_jaw.h, placed at each jaw's pose; wide and
+// slipping jaws add grip springs, jaw_grip.h, and slipping ones leave the pad's controls free)
+// and any other fixed controls (a clamped edge's first two rows hold its position and slope). The free
 // controls are found by the lab's damped Newton method (sim_hw/real_sheet/damped_newton.h) on
 // CHOLMOD, with the controls' masses as its metric; the held ones are fixed unknowns (identity
-// rows), exact at every refinement, with no penalty to tune.
+// rows), exact at every refinement, with no penalty to tune (the grip springs are physics: the
+// lab's hidden effects, not a way of holding).
 
 #include <vector>
 
@@ -60,8 +62,13 @@ ShellSolveReport solve_shell(const ShellModel& model, const ShellHolds& holds, V
 // to fold shows as lambda falling towards zero.
 double lowest_eigenvalue_1_s2(const ShellModel& model, const ShellHolds& holds, const VecX& x, int iterations = 60);
 
-// The force (N) the held controls exert on the sheet in equilibrium: minus the sum of the
-// energy's gradient over them (at a converged x, the free controls' gradient is zero).
-Vec3 holding_force_N(const ShellModel& model, const std::vector<int>& held, const VecX& x);
+// The jaws' grip springs beyond their fixed controls (wide and slipping jaws, jaw_grip.h) at
+// the holds' poses: energy (J); adds the gradient and Hessian when non-null.
+double holds_energy(const ShellModel& model, const ShellHolds& holds, const VecX& x, VecX* gradient,
+                    BlockSparseMatrix* hessian);
+
+// The force (N) the holds exert on the sheet at an equilibrium x (z up: the sheet's weight when
+// they carry it): the fixed controls' reactions plus the grip springs' pull on the free controls.
+Vec3 holding_force_N(const ShellModel& model, const ShellHolds& holds, const VecX& x);
 
 }  // namespace sim_hw::spline_shell

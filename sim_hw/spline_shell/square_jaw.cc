@@ -33,27 +33,46 @@ double distance_to_pad_m(const SquareJaw& jaw, const Vec2& uv_m) {
 }
 
 KnotVector jaw_knots(int degree, double length_m, int axis, const std::vector<SquareJaw>& jaws, double span_m,
-                     double fine_span_m) {
+                     double fine_span_m, double extension_m) {
   std::vector<real_sheet::GridAttractor> attractors;
-  std::vector<double> edges;
+  std::vector<double> edges, rings;
+  const auto inside = [&](double e) { return e > 0 && e < length_m; };
   for (const SquareJaw& j : jaws) {
     const auto [lo, hi] = pad_interval(j, axis, length_m);
     for (double e : {lo, hi}) {
-      if (e > 0 && e < length_m) edges.push_back(e);
+      if (inside(e)) edges.push_back(e);
       attractors.push_back({e, fine_span_m, 0.0});
     }
+    if (extension_m > 0) {
+      for (double e : {lo - extension_m, hi + extension_m}) {
+        if (inside(e)) rings.push_back(e), attractors.push_back({e, fine_span_m, 0.0});
+      }
+    }
   }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end(), [&](double a, double b) { return b - a < 1e-9 * length_m; }), edges.end());
-  // The graded lines, less those too near a pad edge (a sliver of an element), plus the edges.
+  const auto distinct = [&](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end(), [&](double a, double b) { return b - a < 1e-9 * length_m; }), v.end());
+  };
+  distinct(edges);
+  // A ring's edge on a pad's edge (two jaws side by side) is that pad edge.
+  std::erase_if(rings, [&](double r) {
+    return std::any_of(edges.begin(), edges.end(), [&](double e) { return std::abs(r - e) < 1e-9 * length_m; });
+  });
+  distinct(rings);
+  // The graded lines, less those too near an edge (a sliver of an element), plus the edges.
   std::vector<double> lines = real_sheet::graded_lines(length_m, span_m, attractors, 1.3);
   std::vector<double> breaks;
   for (double x : lines) {
-    const bool near_edge = std::any_of(edges.begin(), edges.end(), [&](double e) { return std::abs(x - e) < 0.4 * fine_span_m; });
-    if (!near_edge || x == 0.0 || x == length_m) breaks.push_back(x);
+    const auto near = [&](const std::vector<double>& v) {
+      return std::any_of(v.begin(), v.end(), [&](double e) { return std::abs(x - e) < 0.4 * fine_span_m; });
+    };
+    if ((!near(edges) && !near(rings)) || x == 0.0 || x == length_m) breaks.push_back(x);
   }
   breaks.insert(breaks.end(), edges.begin(), edges.end());
+  breaks.insert(breaks.end(), rings.begin(), rings.end());
   std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end(), [&](double a, double b) { return b - a < 1e-9 * length_m; }),
+               breaks.end());
   std::vector<int> multiplicity(breaks.size(), 1);
   for (std::size_t k = 0; k < breaks.size(); ++k) {
     if (std::binary_search(edges.begin(), edges.end(), breaks[k])) multiplicity[k] = std::max(1, degree - 1);

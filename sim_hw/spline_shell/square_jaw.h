@@ -43,9 +43,10 @@ double distance_to_pad_m(const SquareJaw& jaw, const Vec2& uv_m);
 
 // One direction's knots for a sheet of `length_m` held by `jaws`: spans of at most `span_m`,
 // graded to `fine_span_m` around every pad edge (growing by 1.3 per span away from it), and the
-// pad edges as knots of multiplicity p - 1. Bisecting every span (refined) keeps them.
+// pad edges as knots of multiplicity p - 1; with wide jaws (extension_m > 0, jaw_grip.h) the
+// ring's outer edges too, as simple knots graded alike. Bisecting every span (refined) keeps them.
 KnotVector jaw_knots(int degree, double length_m, int axis, const std::vector<SquareJaw>& jaws, double span_m,
-                     double fine_span_m);
+                     double fine_span_m, double extension_m = 0);
 // Every span split in two: the next level of a refinement study (nested: knot insertion).
 KnotVector refined(const KnotVector& knots);
 

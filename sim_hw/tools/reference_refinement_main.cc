@@ -10,6 +10,7 @@
 // safety factor 1.25), with each level's branch label (its folds) and lowest eigenvalue: levels
 // on different branches are reported as a flip, never as a change.
 //   reference_refinement --specimen composite --seed 1 --levels 3
+//   reference_refinement --specimen composite --material-file wide_jaws.json  (a hidden effect)
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -26,8 +27,10 @@
 
 #include "sim_hw/scanner_lab.h"
 #include "sim_hw/spline_shell/branch_label.h"
+#include "sim_hw/spline_shell/jaw_grip.h"
 #include "sim_hw/spline_shell/refinement_estimate.h"
 #include "sim_hw/spline_shell/shell_path.h"
+#include "twin/model/material.h"
 
 namespace ss = sim_hw::spline_shell;
 namespace rs = sim_hw::real_sheet;
@@ -75,6 +78,10 @@ int main(int argc, char** argv) {
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
   app.add_option("--seed", config.seed, "the lab trial's seed");
+  std::string material_file;
+  app.add_option("--material-file", material_file,
+                 "the lab's true material, its effects block included (default: the specimen's; "
+                 "docs/file_formats.md)");
   app.add_option("--levels", levels, "refinement levels (each bisects every span of the one before)")->check(CLI::Range(2, 6));
   app.add_option("--degree", degree, "spline degree")->check(CLI::Range(2, 4));
   app.add_option("--span-m", span_m, "the coarsest level's largest span (m)");
@@ -93,6 +100,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     const auto start = std::chrono::steady_clock::now();
+    if (!material_file.empty()) config.material_override = twin::read_material_file(material_file);
     const sim_hw::LabSetup setup = sim_hw::lab_setup(config);
     const double w = setup.specimen.width_m, h = setup.specimen.height_m;
     rs::SheetMaterial material = rs::sheet_material_from(setup.truth);
@@ -101,8 +109,9 @@ int main(int argc, char** argv) {
     const std::size_t studied = stage_count > 0 ? std::min(stage_count, setup.stages.size()) : setup.stages.size();
     std::vector<rs::PathStage> stages = rs::path_stages(setup.stages);
     stages.resize(studied);
-    ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m);
-    ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m);
+    const double ring_m = ss::jaw_grip(material).knot_extension_m();  // wide jaws' ring edges
+    ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m, ring_m);
+    ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m, ring_m);
     auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, setup.trial.marker_uv_m);
     auto t = std::chrono::steady_clock::now();
     const ss::ShellPathResult path = ss::follow_path(*model, jaws, stages);
