@@ -23,7 +23,7 @@ cat > "$dir/truth.json" <<'JSON'
 JSON
 for seed in 1 2; do
   if [ ! -f "$dir/trial_$seed/trial.json" ]; then
-    ./build/sim_hw/scanner_lab --specimen composite --seed "$seed" --material-file "$dir/truth.json" --no-scans \
+    ./build/sim_hw/scanner_lab --specimen composite --seed "$seed" --truth-model independent --material-file "$dir/truth.json" --no-scans \
       --out "$dir/trial_$seed" > /dev/null
   fi
 done

@@ -11,10 +11,11 @@
 //   TRUTH/material.json                             the material the lab simulated
 //   TRUTH/<trial>/                                  per trial: noise-free markers, lab.json
 // TRUTH must not be inside TRIALS: whatever analyses TRIALS must not be able to find it.
-// The lab's sheet is the independent model by default (lab_reference.h): physics the twin does
-// not share, on its own grid, so the gap between twin and measurement is the noise plus the
-// twin's model-form error (and the lab model's own discretisation error, measured in
-// docs/independent_sheet.md), as on a real sheet. With truth_model twin, the reference is
+// The lab's sheet is the reference spline shell by default (lab_reference.h): physics the twin
+// does not share, on its own discretisation, converging under refinement, so the gap between
+// twin and measurement is the noise plus the twin's model-form and discretisation error (and the
+// reference's own error, in each trial's lab.json: docs/reference_sheet.md), as on a real sheet.
+// The independent plate stays selectable (its grid error in docs/independent_sheet.md). With truth_model twin, the reference is
 // the twin itself on the analysis twin's mesh (`triangles`), and without a hidden effect the
 // only gap is the scanner noise: the workflow scored against itself.
 
@@ -31,7 +32,7 @@ namespace sim_hw {
 struct BlindSetConfig {
   std::uint64_t seed = 1;
   std::string specimen = "composite";
-  TruthModel truth_model = TruthModel::kIndependent;
+  TruthModel truth_model = TruthModel::kSplineShell;
   double grid_spacing_m = 0;                 // independent model (0: its default for the material)
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
   int triangles = 300;                       // twin model: the reference mesh = the twin's

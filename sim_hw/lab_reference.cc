@@ -244,6 +244,8 @@ double independent_grid_spacing_m(const twin::Material& m) { return std::min(0.0
 
 double independent_path_spacing_m(const twin::Material& m) { return std::min(0.03, 0.5 * bending_length_m(m)); }
 
+double default_shell_span_m(const twin::Material& m) { return std::min(0.02, bending_length_m(m) / 3.0); }
+
 std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& reference, const twin::Material& truth,
                                                     const std::vector<Crease>& creases, double width_m,
                                                     double height_m, const std::vector<twin::ClampSpec>& clamps,

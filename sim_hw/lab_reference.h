@@ -1,11 +1,11 @@
 #pragma once
 // The scanner lab's "real" sheet, simulated through a trial's stages by one of three models:
-//   independent (the default): sim_hw/real_sheet, physics that shares no mesh, energy or solver
-//     code with the twin, on a graded grid whose distance from convergence is measured by
-//     `real_sheet_refinement` (docs/independent_sheet.md);
-//   spline_shell: the reference shell (sim_hw/spline_shell, shell_reference.h), the lab's
-//     material on B-splines, converging under refinement (`reference_refinement`,
-//     docs/reference_sheet.md);
+//   spline_shell (the default): the reference shell (sim_hw/spline_shell, shell_reference.h),
+//     the lab's material on B-splines, converging under refinement (`reference_refinement`,
+//     docs/reference_sheet.md), every trial carrying its own error;
+//   independent: sim_hw/real_sheet, physics that shares no mesh, energy or solver code with the
+//     twin, on a graded grid whose distance from convergence is measured by
+//     `real_sheet_refinement` (docs/independent_sheet.md); its pivot jaws are its own;
 //   twin: the twin's own shell model on a reference mesh (the lab before issue 33; every figure
 //     against it is the twin scoring itself).
 // Either returns, per stage, the noise-free markers and the sheet's normal at each (for the raw
@@ -32,7 +32,7 @@ real_sheet::JawKind parse_jaw_kind(const std::string& name, const std::string& w
 std::string to_string(real_sheet::JawKind kind);
 
 struct ReferenceSheet {
-  TruthModel model = TruthModel::kIndependent;
+  TruthModel model = TruthModel::kSplineShell;
   // Independent model: the clamps' path is followed on a coarse grid (path_grid_spacing_m; 0:
   // independent_path_spacing_m) and each stage's equilibrium is then carried to the grid the
   // markers are read from and solved there (grid_spacing_m; 0: the default for the material,
@@ -41,13 +41,14 @@ struct ReferenceSheet {
   double grid_spacing_m = 0;
   double path_grid_spacing_m = 0;
   real_sheet::JawKind jaws = real_sheet::JawKind::kRigid;
-  // Spline shell: degree, level 0's largest span and its span at the jaws' edges (m), and how
-  // many bisections above level 0 the markers are read on. Level 0 at 2 cm is the coarsest
-  // whose folded stages are in the asymptotic range (docs/reference_sheet.md: from 4 cm, folds
-  // the 4 and 2 cm levels smeared into bends appeared at 1 cm, and elsewhere the composite's markers
-  // still moved 0.4-0.7 mm between 2 and 1 cm; from 2 cm they move 0.2-0.3 mm to 5 mm).
+  // Spline shell: degree, level 0's largest span and its span at the jaws' edges (m; 0: for
+  // the material, default_shell_span_m() below and half of it), and how many bisections above level 0
+  // the markers are read on. For the composite level 0 has 2 cm spans, the coarsest whose folded
+  // stages are in the asymptotic range (docs/reference_sheet.md: from 4 cm, folds the 4 and 2 cm
+  // levels smeared into bends appeared at 1 cm, and elsewhere the composite's markers still moved
+  // 0.4-0.7 mm between 2 and 1 cm; from 2 cm they move 0.2-0.3 mm to 5 mm).
   int shell_degree = 3;
-  double shell_span_m = 0.02, shell_jaw_span_m = 0.01;
+  double shell_span_m = 0, shell_jaw_span_m = 0;
   int shell_levels = 1;
   // The markers the truth's own error is measured over: not within this of a closed clamp (the
   // scanner's hidden radius; a jaw holds the same material at every level).
@@ -84,6 +85,12 @@ struct ReferenceStages {
 // measured by real_sheet_refinement (docs/independent_sheet.md).
 double independent_grid_spacing_m(const twin::Material& material);
 double independent_path_spacing_m(const twin::Material& material);
+
+// The spline shell's level 0 for a material: its largest span a third of the bending length l
+// above, at most 2 cm (the composite's l / 3.2, the coarsest level whose folded stages were
+// found in the asymptotic range: docs/reference_sheet.md); a fabric of shorter l gets as many
+// spans per l. The span at the jaws' edges is half of it.
+double default_shell_span_m(const twin::Material& material);
 
 // The twin model's reference mesh for these clamps. Throws std::invalid_argument when both
 // jaws and radii are asked for.

@@ -29,10 +29,12 @@ namespace sim_hw {
 struct ScannerLabConfig {
   std::string specimen = "composite";
   std::uint64_t seed = 1;
-  // Which physics the "real" sheet follows (lab_reference.h): the independent plate (default),
-  // the reference spline shell, or the twin's own model (for comparison: the twin scoring itself).
-  TruthModel truth_model = TruthModel::kIndependent;
-  // Spline shell: bisections above its coarsest level (2 cm spans, 1 cm at the jaws).
+  // Which physics the "real" sheet follows (lab_reference.h): the reference spline shell
+  // (default: it converges, and lab.json carries its own error), the independent plate, or the
+  // twin's own model (for comparison: the twin scoring itself).
+  TruthModel truth_model = TruthModel::kSplineShell;
+  // Spline shell: bisections above its coarsest level (a third of the bending length, at most
+  // 2 cm; lab_reference.h).
   int shell_levels = 1;
   // Independent model: the grid's largest spacing (m; 0: the default for the material)
   // and whether the jaws hold the sheet rigidly or let it turn about their centre.

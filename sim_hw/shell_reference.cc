@@ -19,7 +19,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   namespace ss = spline_shell;
   namespace rs = real_sheet;
   if (reference.jaws != rs::JawKind::kRigid) {
-    throw std::invalid_argument("scanner lab: the spline shell reference has rigid square jaws only (not pivot)");
+    throw std::invalid_argument("scanner lab: the spline shell reference has rigid square jaws only (pivot jaws: --truth-model independent)");
   }
   if (reference.shell_levels < 0) throw std::invalid_argument("scanner lab: shell levels must be 0 or more");
   rs::SheetMaterial material = rs::sheet_material_from(truth);
@@ -27,10 +27,10 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
   const std::vector<ss::SquareJaw> jaws = ss::clamp_jaws(clamps, w, h);
   const std::vector<rs::PathStage> path_stages = rs::path_stages(stages);
   const double ring_m = ss::jaw_grip(material).knot_extension_m();  // wide jaws' ring edges
-  ss::KnotVector ku =
-      ss::jaw_knots(reference.shell_degree, w, 0, jaws, reference.shell_span_m, reference.shell_jaw_span_m, ring_m);
-  ss::KnotVector kv =
-      ss::jaw_knots(reference.shell_degree, h, 1, jaws, reference.shell_span_m, reference.shell_jaw_span_m, ring_m);
+  const double span_m = reference.shell_span_m > 0 ? reference.shell_span_m : default_shell_span_m(truth);
+  const double jaw_span_m = reference.shell_jaw_span_m > 0 ? reference.shell_jaw_span_m : 0.5 * span_m;
+  ss::KnotVector ku = ss::jaw_knots(reference.shell_degree, w, 0, jaws, span_m, jaw_span_m, ring_m);
+  ss::KnotVector kv = ss::jaw_knots(reference.shell_degree, h, 1, jaws, span_m, jaw_span_m, ring_m);
   auto model = std::make_unique<ss::ShellModel>(ss::SplinePatch(ku, kv), material, marker_uv);
   const ss::ShellPathResult path = ss::follow_path(*model, jaws, path_stages);
   if (!path.usable()) throw std::runtime_error("the spline shell reference failed at " + path.failure);
@@ -98,7 +98,7 @@ ReferenceStages shell_reference(const ReferenceSheet& reference, const twin::Mat
       "spline shell (Kirchhoff-Love, degree {}), level {}: {} x {} controls ({:.1f}-{:.1f} mm spans at level 0, halved "
       "per level), path on level 0 ({} increments, {} iterations), {} L-BFGS and {} Newton iterations carrying it up",
       reference.shell_degree, reference.shell_levels, model->patch().nu(), model->patch().nv(),
-      1e3 * reference.shell_jaw_span_m, 1e3 * reference.shell_span_m, path.increments, path.iterations,
+      1e3 * jaw_span_m, 1e3 * span_m, path.increments, path.iterations,
       relaxation_iterations, carried_iterations);
   return out;
 }

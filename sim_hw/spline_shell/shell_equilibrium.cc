@@ -11,18 +11,25 @@
 
 namespace sim_hw::spline_shell {
 
-std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x) {
+std::vector<int> fixed_controls(const ShellModel& model, const ShellHolds& holds) {
   std::vector<int> fixed = holds.fixed_controls;
-  const JawGrip grip = jaw_grip(model.material());
-  for (const JawHold& h : holds.jaws) {
-    // Slipping jaws' controls are placed too (the rigid motion is their predictor) but left free.
-    const std::vector<int> held = held_controls(model.patch(), h.jaw);
-    place_held_controls(model.patch(), h.jaw, held, h.centre_m, h.rotation, x);
-    if (grip.fixes_controls()) fixed.insert(fixed.end(), held.begin(), held.end());
+  if (jaw_grip(model.material()).fixes_controls()) {
+    for (const JawHold& h : holds.jaws) {
+      const std::vector<int> held = held_controls(model.patch(), h.jaw);
+      fixed.insert(fixed.end(), held.begin(), held.end());
+    }
   }
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
   return fixed;
+}
+
+std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x) {
+  // Slipping jaws' controls are placed too (the rigid motion is their predictor) but left free.
+  for (const JawHold& h : holds.jaws) {
+    place_held_controls(model.patch(), h.jaw, held_controls(model.patch(), h.jaw), h.centre_m, h.rotation, x);
+  }
+  return fixed_controls(model, holds);
 }
 
 double holds_energy(const ShellModel& model, const ShellHolds& holds, const VecX& x, VecX* gradient,
@@ -38,9 +45,8 @@ double holds_energy(const ShellModel& model, const ShellHolds& holds, const VecX
 Vec3 holding_force_N(const ShellModel& model, const ShellHolds& holds, const VecX& x) {
   // On a fixed control the jaw's reaction balances the shell's and the springs' gradients; on
   // every control the springs pull with minus theirs: the springs' share on fixed controls cancels.
-  VecX y = x;
   std::vector<char> fixed(model.patch().control_count(), 0);
-  for (int c : apply_holds(model, holds, y)) fixed[c] = 1;
+  for (int c : fixed_controls(model, holds)) fixed[c] = 1;
   VecX g = VecX::Zero(model.dof_count()), springs = VecX::Zero(model.dof_count());
   model.energy(x, &g, nullptr);
   holds_energy(model, holds, x, &springs, nullptr);
@@ -52,12 +58,11 @@ Vec3 holding_force_N(const ShellModel& model, const ShellHolds& holds, const Vec
 }
 
 double lowest_eigenvalue_1_s2(const ShellModel& model, const ShellHolds& holds, const VecX& x, int iterations) {
-  VecX y = x;
   std::vector<char> fixed(model.patch().control_count(), 0);
-  for (int c : apply_holds(model, holds, y)) fixed[c] = 1;
+  for (int c : fixed_controls(model, holds)) fixed[c] = 1;  // placed where the solve put them
   BlockSparseMatrix H = model.hessian_pattern();
-  model.energy(y, nullptr, &H, Hessian::kExact);
-  holds_energy(model, holds, y, nullptr, &H);
+  model.energy(x, nullptr, &H, Hessian::kExact);
+  holds_energy(model, holds, x, nullptr, &H);
   H.fix_blocks(fixed);
   real_sheet::Cholesky cholesky;
   if (!cholesky.factorize(H)) return std::numeric_limits<double>::quiet_NaN();

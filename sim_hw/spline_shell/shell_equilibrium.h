@@ -47,7 +47,11 @@ struct ShellSolveReport : real_sheet::DampedNewtonReport {
   int relaxation_iterations = 0;  // preconditioned L-BFGS's, before Newton's `iterations`
 };
 
-// Every control the holds fix (sorted, distinct), after placing the jaws' in x.
+// Every control the holds fix (sorted, distinct): the fixed ones and, unless the jaws slip, the
+// pads'.
+std::vector<int> fixed_controls(const ShellModel& model, const ShellHolds& holds);
+// Places every jaw's pad controls at its pose in x (for slipping jaws a predictor, for the rest
+// their hold) and returns fixed_controls.
 std::vector<int> apply_holds(const ShellModel& model, const ShellHolds& holds, VecX& x);
 
 // Puts the jaws' controls at their poses and solves for the rest; x (control points, m) is

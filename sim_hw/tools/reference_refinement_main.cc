@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Refinement study of the scanner lab's reference sheet (B-spline Kirchhoff-Love shell)"};
   sim_hw::ScannerLabConfig config;
   int levels = 3, degree = 3;
-  double span_m = 0.02, fine_span_m = 0.01, branch_tolerance_m = 0.02, significant_fold_m2 = 1e-3;
+  double span_m = 0, fine_span_m = 0, branch_tolerance_m = 0.02, significant_fold_m2 = 1e-3;
   std::size_t stage_count = 0;
   ss::FoldOptions folds;
   app.add_option("--specimen", config.specimen, "composite, cloth, canvas or felt");
@@ -84,8 +84,10 @@ int main(int argc, char** argv) {
                  "docs/file_formats.md)");
   app.add_option("--levels", levels, "refinement levels (each bisects every span of the one before)")->check(CLI::Range(2, 6));
   app.add_option("--degree", degree, "spline degree")->check(CLI::Range(2, 4));
-  app.add_option("--span-m", span_m, "the coarsest level's largest span (m)");
-  app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m)");
+  app.add_option("--span-m", span_m,
+                 "the coarsest level's largest span (m; default: a third of the material's bending length, at most "
+                 "2 cm)");
+  app.add_option("--fine-span-m", fine_span_m, "the coarsest level's span at the jaws' edges (m; default: half the largest)");
   app.add_option("--stages", stage_count, "study the trial's first N stages only (default: all)")->check(CLI::PositiveNumber);
   app.add_option("--fold-radius-m", folds.fold_radius_m, "a fold bends tighter than this (branch labels)");
   app.add_option("--branch-tolerance-m", branch_tolerance_m, "one branch: half of every significant fold within this of the other level's folds of its sign");
@@ -109,6 +111,8 @@ int main(int argc, char** argv) {
     const std::size_t studied = stage_count > 0 ? std::min(stage_count, setup.stages.size()) : setup.stages.size();
     std::vector<rs::PathStage> stages = rs::path_stages(setup.stages);
     stages.resize(studied);
+    if (span_m <= 0) span_m = sim_hw::default_shell_span_m(setup.truth);
+    if (fine_span_m <= 0) fine_span_m = 0.5 * span_m;
     const double ring_m = ss::jaw_grip(material).knot_extension_m();  // wide jaws' ring edges
     ss::KnotVector ku = ss::jaw_knots(degree, w, 0, jaws, span_m, fine_span_m, ring_m);
     ss::KnotVector kv = ss::jaw_knots(degree, h, 1, jaws, span_m, fine_span_m, ring_m);

@@ -42,11 +42,11 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "trial directory to write (required)");
   app.add_option("--truth", truth, "directory for the truth (default: OUT.truth)");
   app.add_option("--material-file", material_file, "the lab's true material (default: the specimen's)");
-  std::string truth_model = "independent", jaws = "rigid";
+  std::string truth_model = "spline_shell", jaws = "rigid";
   app.add_option("--truth-model", truth_model,
-                 "independent: the lab's own plate model, sharing nothing with the twin (default); spline_shell: the "
-                 "reference shell on B-splines (docs/reference_sheet.md; minutes per trial); twin: the twin's shell "
-                 "model (the twin scoring itself)");
+                 "spline_shell: the reference shell on B-splines, converging, its own error in lab.json (default; "
+                 "docs/reference_sheet.md; minutes per trial); independent: the lab's finite-difference plate; twin: "
+                 "the twin's shell model (the twin scoring itself)");
   app.add_option("--shell-levels", config.shell_levels,
                  "spline_shell: bisections above its coarsest level (2 cm spans, 1 cm at the jaws; default 1)")
       ->check(CLI::Range(0, 3));
@@ -54,7 +54,9 @@ int main(int argc, char** argv) {
                  "independent model: largest grid spacing (m; default: min(2 cm, 0.3 bending length))");
   app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m,
                  "independent model: grid spacing (m) the clamps' path is followed on (default: for the material)");
-  app.add_option("--jaws", jaws, "independent model: rigid (default) or pivot (the sheet turns in the jaws)");
+  app.add_option("--jaws", jaws,
+                 "rigid (default) or pivot (the sheet turns in the jaws; independent model only, with "
+                 "--truth-model independent)");
   app.add_option("--reference-triangles", config.reference_triangles, "twin model: triangles of the reference sheet");
   std::string reference_refinement = "jaws";
   app.add_option("--reference-clamp-refinement", reference_refinement,
@@ -73,10 +75,10 @@ int main(int argc, char** argv) {
   blind_app->add_option("--seed", blind.seed, "random seed (effect, magnitude, protocols, noise)");
   blind_app->add_option("--out", blind_out, "directory for train_1, train_2, test_1")->required();
   blind_app->add_option("--truth", blind_truth, "directory for the hidden effect (not inside --out)")->required();
-  std::string blind_truth_model = "independent", blind_jaws = "rigid";
-  blind_app->add_option("--truth-model", blind_truth_model, "independent (default), spline_shell or twin, as for a trial");
+  std::string blind_truth_model = "spline_shell", blind_jaws = "rigid";
+  blind_app->add_option("--truth-model", blind_truth_model, "spline_shell (default), independent or twin, as for a trial");
   blind_app->add_option("--grid-spacing-m", blind.grid_spacing_m, "independent model: largest grid spacing (m)");
-  blind_app->add_option("--jaws", blind_jaws, "independent model: rigid (default) or pivot");
+  blind_app->add_option("--jaws", blind_jaws, "rigid (default) or pivot (with --truth-model independent)");
   blind_app->add_option("--triangles", blind.triangles, "twin model: triangles of the reference sheet (the twin's mesh)");
   blind_app->add_option("--specimen", blind.specimen, "composite, cloth, canvas or felt");
   blind_app->add_option("--effect", forced, "force the hidden effect (generator tests only)");

@@ -215,7 +215,7 @@ TEST_CASE("the independent truth follows the lab's protocol and says so", "[sim_
   config.grid_spacing_m = 0.05;
   config.path_grid_spacing_m = 0.05;
   config.raw_scans = false;
-  CHECK(ScannerLabConfig{}.truth_model == TruthModel::kIndependent);  // the default
+  CHECK(ScannerLabConfig{}.truth_model == TruthModel::kSplineShell);  // the default: a truth that converges
   const LabTrial lab = make_lab_trial(config);
   const LabSetup setup = lab_setup(config);
   REQUIRE(lab.trial.stages.size() == setup.stages.size());

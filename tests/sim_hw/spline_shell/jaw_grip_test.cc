@@ -153,6 +153,10 @@ TEST_CASE("spline shell: a slipping jaw lets the ply slide by its compliance tim
   const ss::VecX x = rig.hang();
   const ss::JawGrip grip = ss::jaw_grip(material);
   REQUIRE_FALSE(grip.fixes_controls());
+  // A stable equilibrium: the springs stand in for the fixed controls in the Hessian too.
+  const double lambda = ss::lowest_eigenvalue_1_s2(rig.model, rig.holds, x);
+  INFO("lowest eigenvalue " << lambda << " 1/s^2");
+  CHECK(lambda > 0);
   // The jaw carries the weight, through its springs alone.
   const double weight_N = rig.model.total_weight_N();
   const ss::Vec3 lift = ss::holding_force_N(rig.model, rig.holds, x);
