@@ -3,8 +3,9 @@
 # stage the mean / max distance from each seen marker to the twin's same material point, for
 # each resolution, and between the coarsest and the finest resolution (the twin's own
 # discretisation). On a trial made with `scanner_lab --marker-noise-m 0` the first is the twin's
-# distance from the truth itself; where it exceeds the twin's discretisation change, the
-# difference is model form (the residual files say where on the sheet).
+# distance from the truth itself; where it exceeds the twin's discretisation change and the
+# truth's own error (printed when the material's directory has the lab.json that gives it),
+# the difference is model form (the residual files say where on the sheet).
 #   scripts/twin_vs_truth_per_stage.sh TRIAL_DIR TRUE_MATERIAL.json [OUT_DIR] [TRIANGLES...]
 # e.g. scripts/twin_vs_truth_per_stage.sh out/ref/composite_1 out/ref/composite_1.truth/material.json out/ref/twin 1500 6000
 set -euo pipefail
@@ -34,6 +35,15 @@ between() {
       d = sqrt(($7 - $21)^2 + ($8 - $22)^2 + ($9 - $23)^2); s += d; if (d > m) m = d; k++ }
     END { if (k) printf "%.2f / %.2f mm", 1e3 * s / k, 1e3 * m; else printf "no markers" }'
 }
+# The truth's own error at a stage, when the material sits in a truth directory whose lab.json
+# has it (the reference shell's: its seen markers' change between its two finest levels).
+lab_json="$(dirname "$material")/lab.json"
+truth_error() {
+  [ -f "$lab_json" ] && command -v jq > /dev/null || return 0
+  jq -r --arg s "$1" '.truth_error[]? | select(.stage == $s) |
+    "  | truth itself: \(.finest_change_mean_m * 1e3 * 100 | round / 100) / \(.finest_change_max_m * 1e3 * 100 | round / 100) mm" +
+    (if .one_branch then "" else " (levels on two branches)" end)' "$lab_json"
+}
 first=${sizes[0]}; last=${sizes[${#sizes[@]}-1]}
 echo "$name at the true material: markers vs the twin's same material points, mean / max per stage"
 for s in $(stages); do
@@ -45,5 +55,5 @@ for s in $(stages); do
   if [ "$first" != "$last" ]; then
     line+="  | twin $first vs $last: $(between "$out/$first/train/$name/${s}_residuals.csv" "$out/$last/train/$name/${s}_residuals.csv")"
   fi
-  echo "$line"
+  echo "$line$(truth_error "$s")"
 done

@@ -332,6 +332,60 @@ TEST_CASE("the spline shell truth holds the sheet where the clamps are and says 
                     Catch::Contains("rigid"));
 }
 
+// The jaws' hidden effects reach the spline shell truth (seconds, coarse spans). The lab's jaws
+// keep the level frame they gripped the sheet in, so a slipping jaw lets the ply slide along
+// its level faces: here outwards, pushed by the sheet between the jaws, which is 5 mm longer than
+// their distance, and further the more compliant the jaws (jaw_grip_test checks the slide
+// against compliance times pull); a wide jaw holds the ply level beyond its pad where a narrow
+// one lets it droop.
+TEST_CASE("the spline shell truth has the wide and slipping jaws", "[sim_hw][lab]") {
+  ReferenceSheet reference;
+  reference.model = TruthModel::kSplineShell;
+  reference.shell_span_m = 0.04;
+  reference.shell_jaw_span_m = 0.01;
+  reference.shell_levels = 0;
+  const std::vector<twin::ClampSpec> clamps = {{"A", twin::Vec2(0.05, 0.21), 0.015}, {"B", twin::Vec2(0.25, 0.21), 0.015}};
+  std::vector<twin::TrialStage> stages(1);
+  for (const double x : {0.05, 0.245}) {  // 5 mm short of taut: the sheet sags between them
+    twin::ClampPose p;
+    p.position_m = Vec3(x, 0.0, 0.5);
+    stages[0].poses.push_back(p);
+  }
+  const double beyond_m = 0.0133 + 0.01;  // the pad's half side plus 1 cm, below jaw A
+  const std::vector<twin::Vec2> markers = {clamps[0].material_point_m, clamps[0].material_point_m - twin::Vec2(0, beyond_m)};
+  const auto hang = [&](const twin::Material& m) {
+    return simulate_reference(reference, m, {}, 0.3, 0.25, clamps, stages, markers).markers_m[0];
+  };
+  const twin::Material plain = lab_specimen("composite").truth;
+  const std::vector<Vec3> held = hang(plain);
+  CHECK((held[0] - stages[0].poses[0].position_m).norm() < 1e-9);
+  const auto slide_m = [&](double compliance_m_N) -> Vec3 {
+    twin::Material slipping = plain;
+    slipping.effects.clamp_slip_compliance_m_N = compliance_m_N;
+    return hang(slipping)[0] - stages[0].poses[0].position_m;
+  };
+  const Vec3 one = slide_m(1e-3), two = slide_m(2e-3);
+  INFO("slid (" << one.transpose() * 1e3 << ") mm at 1 mm/N, (" << two.transpose() * 1e3 << ") mm at 2 mm/N");
+  CHECK(one.x() < -0.1e-3);                       // outwards: the sheet between is 5 mm too long
+  CHECK(std::abs(one.z()) < 0.01 * std::abs(one.x()));  // along the level faces
+  CHECK(two.x() < one.x());                        // more compliant, further (the slide relieves the push)
+  twin::Material wide = plain;
+  wide.effects.clamp_grip_strength = 1.0;
+  wide.effects.clamp_grip_width_m = 0.02;
+  const double drop_wide = 0.5 - hang(wide)[1].z(), drop_narrow = 0.5 - held[1].z();
+  INFO("1 cm beyond the pad: drop " << drop_wide * 1e3 << " mm with wide jaws, " << drop_narrow * 1e3 << " mm without");
+  CHECK(drop_wide < 0.05e-3);
+  CHECK(drop_narrow > 0.5e-3);
+}
+
+TEST_CASE("the spline shell's coarsest spans follow the material's bending length", "[sim_hw][lab]") {
+  // The composite's 6.5 cm bending length: 2 cm, the most; cloth's 2.6 cm: a third of it.
+  CHECK(default_shell_span_m(lab_specimen("composite").truth) == Approx(0.02));
+  const double cloth = default_shell_span_m(lab_specimen("cloth").truth);
+  CHECK(cloth < 0.01);
+  CHECK(cloth > 0.007);
+}
+
 TEST_CASE("truth models and jaws are named or refused by name", "[sim_hw][lab]") {
   CHECK(parse_truth_model("twin", "--truth-model") == TruthModel::kTwin);
   CHECK(parse_truth_model("independent", "--truth-model") == TruthModel::kIndependent);
