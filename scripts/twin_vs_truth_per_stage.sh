@@ -1,9 +1,9 @@
 #!/bin/bash
 # The twin at the lab's true material against a trial's markers, stage by stage (no fit): per
 # stage the mean / max distance from each seen marker to the twin's same material point, for
-# each resolution, and between the coarsest and the finest resolution (the twin's own
-# discretisation). On a trial made with `scanner_lab --marker-noise-m 0` the first is the twin's
-# distance from the truth itself; where it exceeds the twin's discretisation change and the
+# each resolution, and between successive resolutions (the twin's own discretisation; with
+# three, whether it converges). On a trial made with `scanner_lab --marker-noise-m 0` the first
+# is the twin's distance from the truth itself; where it exceeds the twin's discretisation change and the
 # truth's own error (printed when the material's directory has the lab.json that gives it),
 # the difference is model form (the residual files say where on the sheet).
 #   scripts/twin_vs_truth_per_stage.sh TRIAL_DIR TRUE_MATERIAL.json [OUT_DIR] [TRIANGLES...]
@@ -17,6 +17,8 @@ name=$(basename "$trial")
 mkdir -p "$out"
 for n in "${sizes[@]}"; do
   log="$out/twin_$n.log"
+  # A resolution already run on this trial (its result newer than the trial) is reused.
+  if [ "$out/twin_$n.json" -nt "$trial/trial.json" ] && [ -d "$out/$n" ]; then continue; fi
   "$twin" identify --train "$trial" --start "$material" --parameters bending_Nm --max-evaluations 1 \
     --no-discretisation-check --quiet --triangles "$n" --residuals "$out/$n" --out "$out/twin_$n.json" > "$log" 2>&1 ||
     { echo "twin identify at $n triangles failed: see $log" >&2; exit 1; }
@@ -44,7 +46,6 @@ truth_error() {
     "  | truth itself: \(.finest_change_mean_m * 1e3 * 100 | round / 100) / \(.finest_change_max_m * 1e3 * 100 | round / 100) mm" +
     (if .one_branch then "" else " (levels on two branches)" end)' "$lab_json"
 }
-first=${sizes[0]}; last=${sizes[${#sizes[@]}-1]}
 echo "$name at the true material: markers vs the twin's same material points, mean / max per stage"
 for s in $(stages); do
   line="stage $s:"
@@ -52,8 +53,10 @@ for s in $(stages); do
     tris=$(grep -oE 'twin mesh [0-9]+' "$out/twin_$n.log" | grep -oE '[0-9]+' | head -1 || echo "$n")
     line+="  twin $tris: $(distance "$out/$n/train/$name/${s}_residuals.csv")"
   done
-  if [ "$first" != "$last" ]; then
-    line+="  | twin $first vs $last: $(between "$out/$first/train/$name/${s}_residuals.csv" "$out/$last/train/$name/${s}_residuals.csv")"
-  fi
+  # The twin's own change between successive resolutions (with three, its order shows).
+  for ((k = 1; k < ${#sizes[@]}; k++)); do
+    a=${sizes[k-1]}; b=${sizes[k]}
+    line+="  | twin $a vs $b: $(between "$out/$a/train/$name/${s}_residuals.csv" "$out/$b/train/$name/${s}_residuals.csv")"
+  done
   echo "$line$(truth_error "$s")"
 done
