@@ -48,15 +48,15 @@ int main(int argc, char** argv) {
                  "docs/reference_sheet.md; minutes per trial); independent: the lab's finite-difference plate; twin: "
                  "the twin's shell model (the twin scoring itself)");
   app.add_option("--shell-levels", config.shell_levels,
-                 "spline_shell: bisections above its coarsest level (2 cm spans, 1 cm at the jaws; default 1)")
+                 "spline_shell: bisections above its coarsest level (spans a third of the material's bending length, at "
+                 "most 2 cm, half that at the jaws; default 1)")
       ->check(CLI::Range(0, 3));
   app.add_option("--grid-spacing-m", config.grid_spacing_m,
                  "independent model: largest grid spacing (m; default: min(2 cm, 0.3 bending length))");
   app.add_option("--path-grid-spacing-m", config.path_grid_spacing_m,
                  "independent model: grid spacing (m) the clamps' path is followed on (default: for the material)");
   app.add_option("--jaws", jaws,
-                 "rigid (default) or pivot (the sheet turns in the jaws; independent model only, with "
-                 "--truth-model independent)");
+                 "rigid (default) or pivot (the sheet turns in the jaws; --truth-model independent only)");
   app.add_option("--reference-triangles", config.reference_triangles, "twin model: triangles of the reference sheet");
   std::string reference_refinement = "jaws";
   app.add_option("--reference-clamp-refinement", reference_refinement,
