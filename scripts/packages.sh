@@ -18,6 +18,7 @@ PROJECT_PACKAGES=(
   xvfb                                         # lcm-spy on a headless machine (scripts/lcm_spy.sh)
   iproute2                                     # network namespaces of the udpm and fake-cell tests (scripts/with_loopback_lcm.sh)
   libopenmpi-dev openmpi-bin                   # twin batch across MPI ranks (optional: built only when found)
+  calculix-ccx                                 # CalculiX, the reference's third opinion (optional: its tests built only when found)
 )
 SANITIZER_PACKAGES=(
   clang libclang-rt-14-dev libomp-14-dev       # the ASan + UBSan + libFuzzer build (docs/fuzzing.md)

@@ -244,6 +244,21 @@ double independent_grid_spacing_m(const twin::Material& m) { return std::min(0.0
 
 double independent_path_spacing_m(const twin::Material& m) { return std::min(0.03, 0.5 * bending_length_m(m)); }
 
+nlohmann::json truth_error_json(const std::vector<TruthError>& errors, const std::vector<twin::TrialStage>& stages) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t s = 0; s < errors.size() && s < stages.size(); ++s) {
+    const TruthError& e = errors[s];
+    out.push_back({{"stage", stages[s].id},
+                   {"finest_change_mean_m", e.finest_change_mean_m},
+                   {"finest_change_max_m", e.finest_change_max_m},
+                   {"one_branch", e.one_branch},
+                   {"order", e.order ? nlohmann::json(*e.order) : nlohmann::json()},
+                   {"estimated_error_m", e.estimated_m ? nlohmann::json(*e.estimated_m) : nlohmann::json()},
+                   {"summary", e.text}});
+  }
+  return out;
+}
+
 double default_shell_span_m(const twin::Material& m) { return std::min(0.02, bending_length_m(m) / 3.0); }
 
 std::vector<ReferenceStages> independent_refinement(const ReferenceSheet& reference, const twin::Material& truth,

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "sim_hw/crease.h"
 #include "sim_hw/real_sheet/jaw_pad.h"
 #include "twin/model/material.h"
@@ -70,6 +72,10 @@ struct TruthError {
   std::optional<double> estimated_m;  // of the mean, Richardson
   std::string text;                   // per comparison and the estimate, as the study prints it
 };
+
+// lab.json's "truth_error": per stage (ids from `stages`), the two finest levels' change, whether
+// they hold the same folds, and the observed order and estimate where there are (null otherwise).
+nlohmann::json truth_error_json(const std::vector<TruthError>& errors, const std::vector<twin::TrialStage>& stages);
 
 struct ReferenceStages {
   std::vector<std::vector<twin::Vec3>> markers_m, normals;  // per stage, per marker

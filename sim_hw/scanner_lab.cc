@@ -333,20 +333,7 @@ void write_lab_trial(const LabTrial& lab, const ScannerLabConfig& config,
   if (config.truth_model == TruthModel::kSplineShell) j["shell_levels"] = config.shell_levels;
   // The truth's own error per stage (its two finest levels' change; order and estimate where
   // three levels or more agree on the branch); null where it cannot say.
-  if (!lab.truth_error.empty()) {
-    nlohmann::json errors = nlohmann::json::array();
-    for (std::size_t s = 0; s < lab.truth_error.size() && s < lab.trial.stages.size(); ++s) {
-      const TruthError& e = lab.truth_error[s];
-      errors.push_back({{"stage", lab.trial.stages[s].id},
-                        {"finest_change_mean_m", e.finest_change_mean_m},
-                        {"finest_change_max_m", e.finest_change_max_m},
-                        {"one_branch", e.one_branch},
-                        {"order", e.order ? nlohmann::json(*e.order) : nlohmann::json()},
-                        {"estimated_error_m", e.estimated_m ? nlohmann::json(*e.estimated_m) : nlohmann::json()},
-                        {"summary", e.text}});
-    }
-    j["truth_error"] = std::move(errors);
-  }
+  if (!lab.truth_error.empty()) j["truth_error"] = truth_error_json(lab.truth_error, lab.trial.stages);
   j["reference_triangles"] = config.reference_triangles;
   j["reference_clamp_refinement_m"] = config.reference_clamp_refinement_radii_m;
   j["reference_resolves_jaws"] = config.reference_resolves_jaws;
