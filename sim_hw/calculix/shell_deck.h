@@ -2,10 +2,12 @@
 // A CalculiX input deck (.inp) of the scanner lab's protocol on the S8R grid (shell_grid.h): the
 // sheet lies flat and level at the placement, each jaw holds the whole elements of its square pad
 // (every node in the pad fixed in translation and rotation, so the pad moves rigidly and clamps
-// the sheet at its edges), gravity comes on and the sheet hangs (static steps with NLGEOM), and each further
-// step moves the jaws to one stage's poses (a pad translates with its clamp: the jaws stay level,
-// in the placement's frame). Only held stages: a jaw that opens is a fall, not an equilibrium
-// CalculiX's static steps can follow.
+// the sheet at its edges), gravity comes on and the sheet hangs (static steps with NLGEOM), and
+// each further step moves the jaws to one stage's poses (a pad translates with its clamp: the
+// jaws stay level, in the placement's frame). Static steps follow taut stages only: a jaw that
+// opens lets the sheet fall, and jaws that come closer than the material between them let it
+// slacken and snap into folds, a limit point of the static path where ccx's increments shrink
+// below any minimum (docs/reference_sheet.md, "CalculiX's opinion").
 // The hang is a continuation, not the lab's overdamped fall: a flat sheet under gravity has only
 // its bending to resist (Newton's first iterate from flat drops a 1 m composite sheet hundreds of
 // metres, and ccx cuts its increments below any minimum), so gravity comes on with the stiffness
@@ -43,7 +45,8 @@ struct ShellDeck {
   std::vector<std::vector<Vec3>> stage_displacements_m;
   // Static increments: the first, the largest and the smallest fraction of a step (every step lasts
   // one unit of analysis time).
-  double initial_increment = 0.02, max_increment = 0.25, min_increment = 1e-7;
+  // A stage whose increments fall below min_increment is not reached (a slack stage's snap, above).
+  double initial_increment = 0.02, max_increment = 0.25, min_increment = 1e-5;
   int stiffening_decades = 3;  // the hang starts this many decades stiffer (0: gravity on the material)
 
   // The step (1-based) that reaches stage 1; stage k is this + k - 1.
