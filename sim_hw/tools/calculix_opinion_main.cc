@@ -11,13 +11,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -45,24 +42,6 @@ struct GridRun {
   std::vector<std::vector<Vec3>> markers;  // per stage reached
   std::string failure;                     // where ccx stopped, "" when every stage was reached
 };
-
-std::vector<Vec3> read_xyz(const std::string& path, std::size_t expected) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the truth's markers", path));
-  std::vector<Vec3> out;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    std::istringstream s(line);
-    std::string a, b, c;
-    if (!(s >> a >> b >> c)) throw std::runtime_error(fmt::format("{}:{}: expected 'x y z'", path, n));
-    out.emplace_back(std::stod(a), std::stod(b), std::stod(c));
-  }
-  if (out.size() != expected) {
-    throw std::runtime_error(fmt::format("{}: {} markers, the trial has {}", path, out.size(), expected));
-  }
-  return out;
-}
 
 struct Distance {
   double mean_m = 0, max_m = 0;
@@ -166,8 +145,7 @@ int main(int argc, char** argv) {
       }
       if (run.markers.size() < held) run.failure = fmt::format("ccx stopped before stage {} (see {})", run.markers.size() + 1, (dir / "ccx.log").string());
       for (std::size_t k = 0; k < run.markers.size(); ++k) {
-        std::ofstream out(dir / fmt::format("{}_markers.xyz", trial.stages[k].id));
-        for (const Vec3& x : run.markers[k]) out << fmt::format("{:.9f} {:.9f} {:.9f}\n", x.x(), x.y(), x.z());
+        twin::write_xyz_file((dir / (trial.stages[k].id + "_markers.xyz")).string(), run.markers[k]);
       }
       fmt::print("  grid {:.1f} mm: {} S8R, {} nodes, {} of {} stages, {:.0f} s{}\n", 1e3 * size, run.elements, run.nodes,
                  run.markers.size(), held, run.seconds, run.failure.empty() ? "" : "; " + run.failure);
@@ -177,8 +155,13 @@ int main(int argc, char** argv) {
 
     std::optional<nlohmann::json> lab;
     if (!truth_dir.empty() && fs::exists(fs::path(truth_dir) / "lab.json")) {
-      std::ifstream in(fs::path(truth_dir) / "lab.json");
-      lab = nlohmann::json::parse(in);
+      const fs::path file = fs::path(truth_dir) / "lab.json";
+      std::ifstream in(file);
+      try {
+        lab = nlohmann::json::parse(in);
+      } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(fmt::format("{}: not JSON ({})", file.string(), e.what()));
+      }
     }
     for (std::size_t k = 0; k < held; ++k) {
       const std::string& id = trial.stages[k].id;
@@ -190,7 +173,11 @@ int main(int argc, char** argv) {
         }
       }
       if (!truth_dir.empty()) {
-        const std::vector<Vec3> truth = read_xyz((fs::path(truth_dir) / (id + "_true.xyz")).string(), trial.marker_uv_m.size());
+        const std::string truth_file = (fs::path(truth_dir) / (id + "_true.xyz")).string();
+        const std::vector<Vec3> truth = twin::read_xyz_file(truth_file, /*allow_nan=*/true);
+        if (truth.size() != trial.marker_uv_m.size()) {
+          throw std::runtime_error(fmt::format("{}: {} markers, the trial has {}", truth_file, truth.size(), trial.marker_uv_m.size()));
+        }
         for (const GridRun& r : runs) {
           if (r.markers.size() > k) line += fmt::format(" CalculiX {:.1f} mm vs reference {};", 1e3 * r.element_size_m, text(distance(r.markers[k], truth)));
         }

@@ -42,10 +42,7 @@ int main(int argc, char** argv) {
                                 trial.stages, trial.marker_uv_m);
     std::filesystem::create_directories(out_dir);
     for (std::size_t s = 0; s < r.markers_m.size(); ++s) {
-      prepreg::write_file_atomically((std::filesystem::path(out_dir) / (trial.stages[s].id + "_true.xyz")).string(),
-                                  [&](std::ostream& out) {
-                                    for (const twin::Vec3& x : r.markers_m[s]) out << fmt::format("{:.9f} {:.9f} {:.9f}\n", x.x(), x.y(), x.z());
-                                  });
+      twin::write_xyz_file((std::filesystem::path(out_dir) / (trial.stages[s].id + "_true.xyz")).string(), r.markers_m[s]);
     }
     twin::write_material_file((std::filesystem::path(out_dir) / "material.json").string(), material);
     nlohmann::json lab{{"trial", trial_dir}, {"reference", r.description}, {"shell_levels", reference.shell_levels}};
