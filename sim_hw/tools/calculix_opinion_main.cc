@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   std::size_t stage_count = 0;
   int threads = 1;
   bool reuse = false;
+  std::string shear_from = "bending";
   app.add_option("--trial", trial_dir, "the trial directory (docs/file_formats.md)")->required();
   app.add_option("--truth", truth_dir, "the lab's truth directory (<stage>_true.xyz, material.json, lab.json)");
   app.add_option("--material-file", material_file, "the sheet's material (default: the truth's material.json)");
@@ -76,6 +77,10 @@ int main(int argc, char** argv) {
   app.add_option("--work-dir", work_dir, "where the decks, logs and results go (one folder per grid)");
   app.add_option("--ccx", ccx, "the CalculiX executable");
   app.add_option("--threads", threads, "ccx's threads")->check(CLI::Range(1, 64));
+  app.add_option("--shear-from", shear_from,
+                 "the section's in-plane shear modulus from the bending's twist D66 (folds, drape) or the membrane's "
+                 "shear C66 (taut stages); the other is then off by the ratio the tool prints")
+      ->check(CLI::IsMember({"bending", "membrane"}));
   app.add_flag("--reuse", reuse, "keep a grid's result when it is newer than an identical deck");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -86,7 +91,8 @@ int main(int argc, char** argv) {
       material_file = (fs::path(truth_dir) / "material.json").string();
     }
     const twin::Material material = twin::read_material_file(material_file);
-    const cx::ShellSection section = cx::shell_section(material);
+    const cx::ShellSection section =
+        cx::shell_section(material, shear_from == "membrane" ? cx::ShearFrom::kMembrane : cx::ShearFrom::kBending);
     const double w = trial.sheet.width_m, h = trial.sheet.height_m;
 
     // The held stages: those before the first that opens a jaw.

@@ -93,6 +93,13 @@ TEST_CASE("the shell section keeps the sheet's bending and its tensile stiffness
   CHECK(s.membrane_shear_ratio == Approx(6000 / (2 * 1.3) / 2500));  // the isotropic shell's shear
   CHECK(s.text().find("isotropic") != std::string::npos);
 
+  const cx::ShellSection taut = cx::shell_section(m, cx::ShearFrom::kMembrane);  // the membrane's shear instead
+  CHECK_FALSE(taut.isotropic);
+  CHECK(taut.g12_Pa * taut.thickness_m == Approx(m.membrane_stiffness()(2, 2)));
+  CHECK(taut.membrane_shear_ratio == Approx(1.0));
+  CHECK(taut.twist_ratio == Approx(2500.0 / (6000 / (2 * 1.3))));
+  CHECK(taut.e1_Pa == Approx(s.e1_Pa));
+
   m.bending_rigidity_v_Nm = 2e-4;  // a weaker warp: orthotropic, every D term still exact
   const cx::ShellSection o = cx::shell_section(m);
   CHECK_FALSE(o.isotropic);
