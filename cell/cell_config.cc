@@ -17,11 +17,17 @@ std::string resolve(const std::filesystem::path& base, const std::string& file) 
 }
 
 void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
-  f.only_keys({"lcm_url", "cycle_hz", "min_cameras", "robot_status_timeout_ms", "camera_stale_ms",
+  f.only_keys({"lcm_url", "clock", "sim_clock_timeout_s", "cycle_hz", "min_cameras", "robot_status_timeout_ms", "camera_stale_ms",
                "startup_timeout_s", "camera_startup_timeout_s", "arm_status_timeout_s",
                "hold_tolerance_m", "move_speed_m_s", "joint_speed_scale", "release_timeout_s",
                "twin_lockstep", "twin_priority", "twin_background_factorization"});
   if (auto v = f.optional("lcm_url")) s.lcm_url = v->string();
+  if (auto v = f.optional("clock")) {
+    const std::optional<drivers::ClockSource> clock = drivers::clock_source_from_name(v->string());
+    if (!clock) v->fail("must be \"wall\" (real hardware) or \"sim\" (the fake world's SIM_CLOCK)");
+    s.clock = *clock;
+  }
+  if (auto v = f.optional("sim_clock_timeout_s")) s.sim_clock_timeout_s = v->positive("s");
   if (auto v = f.optional("cycle_hz")) s.cycle_hz = v->positive("1/s");
   if (auto v = f.optional("min_cameras")) s.min_cameras = v->positive_integer();
   if (auto v = f.optional("robot_status_timeout_ms")) s.robot_status_timeout_ms = v->positive("ms");
@@ -42,7 +48,13 @@ void read_cell_settings(const twin::JsonField& f, CellSettings& s) {
   if (auto v = f.optional("twin_lockstep")) {
     if (!v->json().is_boolean()) v->fail("must be true or false");
     s.twin_lockstep = v->json().get<bool>();
+    if (!s.twin_lockstep && s.clock == drivers::ClockSource::kSim) {
+      v->fail("must be true on \"clock\": \"sim\" (a step taken up whenever the wall lets it would make runs differ)");
+    }
   }
+  // On the simulation clock the twin steps in lockstep: which cycle takes up a step must not
+  // depend on the wall.
+  if (s.clock == drivers::ClockSource::kSim) s.twin_lockstep = true;
   if (auto v = f.optional("twin_background_factorization")) {
     if (!v->json().is_boolean()) v->fail("must be true or false");
     s.twin_background_factorization = v->json().get<bool>();

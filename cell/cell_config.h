@@ -3,6 +3,14 @@
 // drivers/camera_config_json.h and "arms"/"grippers" to drivers/cell_hardware_config.h; this
 // file owns the other keys (every one optional unless marked required; unknown keys are errors):
 //   "cell": {"lcm_url": "udpm://239.255.76.67:7667?ttl=0",  (LCM provider; --lcm overrides)
+//            "clock": "wall",                 ("wall": real hardware; "sim": the fake world's
+//                                              simulation clock, SIM_CLOCK, in lockstep: every
+//                                              time the cell reads, pacing, watchdogs, frame and
+//                                              message stamps, follows it, the world waits for
+//                                              each cycle, and the twin steps in lockstep, so a
+//                                              run repeats (drivers/sim_clock_client.h))
+//            "sim_clock_timeout_s": 5,        (on "sim": no SIM_CLOCK for this long on the wall
+//                                              -> SAFE_HOLD, s)
 //            "cycle_hz": 15,                  (cycle rate, 1/s; the twin's dt = 1 / cycle_hz
 //                                              per cycle its step spans)
 //            "min_cameras": 2,                (fewer fresh cameras -> SAFE_HOLD; fewer than all
@@ -80,6 +88,7 @@
 #include "cell/learning/settled_state.h"
 #include "drivers/cell_hardware_config.h"
 #include "drivers/depth_camera.h"
+#include "drivers/sim_clock_client.h"
 #include "tracking/sheet_tracker.h"
 #include "twin/trials/sheet_spec.h"
 
@@ -87,6 +96,8 @@ namespace cell {
 
 struct CellSettings {
   std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+  drivers::ClockSource clock = drivers::ClockSource::kWall;
+  double sim_clock_timeout_s = 5.0;
   double cycle_hz = 15.0;
   int min_cameras = 2;
   double robot_status_timeout_ms = 250.0;

@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
 
 #include "drivers/lcm_channels.h"
 
 namespace cell {
 
-double steady_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double steady_s() { return 1e-6 * static_cast<double>(drivers::host_clock_us()); }
 
 namespace {
 // The cell checks the cameras' calibration itself, off the cycle (calibration_monitor.h).
@@ -18,8 +19,11 @@ tracking::TrackerConfig without_calibration_check(tracking::TrackerConfig c) {
   return c;
 }
 
-// The cameras' frame period (s): the fastest configured rate; 0 when no camera says.
-double frame_period_s(const std::vector<drivers::CameraConfig>& cameras) {
+// The cameras' frame period (s): the fastest configured rate; 0 when no camera says, and on the
+// simulation clock, where the cycles keep their own period exactly (a frame's arrival there is
+// when the cycle reads it, so locking to it would only add the lock's slack every cycle).
+double frame_period_s(const CellSettings& cell, const std::vector<drivers::CameraConfig>& cameras) {
+  if (cell.clock == drivers::ClockSource::kSim) return 0.0;
   int fps = 0;
   for (const auto& c : cameras) fps = std::max(fps, c.depth_mode.fps);
   return fps > 0 ? 1.0 / fps : 0.0;
@@ -28,8 +32,11 @@ double frame_period_s(const std::vector<drivers::CameraConfig>& cameras) {
 
 CellController::CellController(CellConfig config, drivers::LcmBus& bus, bool fault_injection)
     : config_(std::move(config)),
-      pacer_(1.0 / config_.cell.cycle_hz, frame_period_s(config_.cameras)),
+      pacer_(1.0 / config_.cell.cycle_hz, frame_period_s(config_.cell, config_.cameras)),
       bus_(bus),
+      sim_clock_(config_.cell.clock == drivers::ClockSource::kSim
+                     ? std::make_unique<drivers::SimClockClient>(bus, std::string(kLockstepClientName))
+                     : nullptr),
       fault_injection_(fault_injection),
       tracker_(without_calibration_check(config_.tracker)),
       calibration_(config_.tracker.calibration),
@@ -79,10 +86,46 @@ std::int64_t CellController::next_cycle_start_us(std::int64_t last_start_us, con
 }
 
 void CellController::handle_bus(int ms) {
-  // handle_for dispatches everything already waiting; a zero wait only drains.
-  bus_.handle_for(std::chrono::milliseconds(ms));
+  if (sim_clock_ && ms > 0) {
+    advance_clock(sim_clock_->now_us() + 1000 * static_cast<std::int64_t>(ms), nullptr);
+  } else {
+    // handle_for dispatches everything already waiting; a zero wait only drains.
+    bus_.handle_for(std::chrono::milliseconds(ms));
+  }
   while (bus_.handle_for(std::chrono::milliseconds(0)).messages > 0) {
   }
+}
+
+void CellController::wait_until(std::int64_t until_us, const std::atomic<bool>* stop) {
+  if (sim_clock_) {
+    advance_clock(until_us, stop);
+    handle_bus(0);
+    return;
+  }
+  while (!(stop && stop->load())) {
+    const std::int64_t left_ms = (until_us - drivers::host_clock_us()) / 1000;
+    if (left_ms <= 0) break;
+    handle_bus(static_cast<int>(left_ms));
+  }
+}
+
+void CellController::advance_clock(std::int64_t until_us, const std::atomic<bool>* stop) {
+  if (sim_clock_->advance_to(until_us, config_.cell.sim_clock_timeout_s, stop)) {
+    clock_problem_.clear();
+  } else if (!(stop && stop->load())) {
+    clock_problem_ = fmt::format("simulation clock: no SIM_CLOCK for {:.1f} s (is the fake world running?)",
+                                 sim_clock_->silent_s());
+  }
+}
+
+void CellController::wait_for_next_frames() {
+  if (!sim_clock_) {
+    handle_bus(0);
+    return;
+  }
+  int fps = 0;
+  for (const auto& c : config_.cameras) fps = std::max(fps, c.depth_mode.fps);
+  handle_bus(fps > 0 ? std::max(1, static_cast<int>(std::ceil(1000.0 / fps))) : 1);
 }
 
 void CellController::stop(const std::string& why) {

@@ -31,6 +31,7 @@
 #include "cell/learning/settled_state.h"
 #include "cell/robot_link.h"
 #include "cell/watchdog.h"
+#include "drivers/sim_clock_client.h"
 #include "drivers/lcm_bus.h"
 #include "tracking/sheet_tracker.h"
 #include "twin/trials/grasp_plan.h"
@@ -57,6 +58,10 @@ struct CycleReport {
 };
 
 // Seconds on the steady clock (for deadlines).
+// The name the cell controller holds the fake world's clock by (cell_world --lockstep).
+inline constexpr const char* kLockstepClientName = "cell_controller";
+
+// The process's time in seconds (steady; simulation time on the fake world's clock).
 double steady_s();
 
 class CellController {
@@ -71,8 +76,14 @@ class CellController {
   CellState startup();
   // One cycle; call at cell.cycle_hz (after READY).
   CycleReport cycle();
-  // Dispatches waiting LCM messages for up to `ms` (between cycles).
+  // Dispatches waiting LCM messages for up to `ms` of the process's time (between cycles): on
+  // the simulation clock ("clock": "sim") it lets the world's clock run `ms` on. 0: only what
+  // is waiting.
   void handle_bus(int ms);
+  // Handles the bus until the process's time reaches until_us (host_clock_us) or *stop is set.
+  void wait_until(std::int64_t until_us, const std::atomic<bool>* stop = nullptr);
+  // The fake world's clock when the cell runs on it, else nullptr.
+  const drivers::SimClockClient* sim_clock() const { return sim_clock_.get(); }
   // Publishes STOPPED and closes the cameras.
   void stop(const std::string& why);
 
@@ -173,9 +184,17 @@ class CellController {
   void consider_reseed(const learning::SettledObservation& state);
   void collect_branch_job();
 
+  // Between reads while waiting for frames: on the simulation clock time must be let pass
+  // for new frames to come (on the wall a read itself waits for one).
+  void wait_for_next_frames();
+  // Lets the simulation clock run to until_us; notes a clock that fell silent in clock_problem_.
+  void advance_clock(std::int64_t until_us, const std::atomic<bool>* stop);
+
   CellConfig config_;
   CyclePacer pacer_;
   drivers::LcmBus& bus_;
+  std::unique_ptr<drivers::SimClockClient> sim_clock_;  // "clock": "sim": made before anything reads time
+  std::string clock_problem_;  // "" while the clock runs
   bool fault_injection_;
   CameraSet cameras_;
   tracking::SheetTracker tracker_;  // without its own calibration check: calibration_ runs it

@@ -223,6 +223,7 @@ CycleReport CellController::cycle() {
   in.twin_problem = twin_problem_;
   in.stale_arms = robots_->stale_arms(after_us, config_.cell.robot_status_timeout_ms);
   in.robot_status_timeout_ms = config_.cell.robot_status_timeout_ms;
+  in.clock_problem = clock_problem_;
   const WatchdogVerdict verdict = judge(in);
   status_.state = verdict.state;
   status_.reason = verdict.reason;

@@ -37,6 +37,8 @@ CellMonitor::CellMonitor(drivers::LcmBus& bus, MonitorOptions options, MonitorSi
                              std::string(ch::kSheetPredicted) + "|" + std::string(ch::kSimTruth);
   s.push_back(bus_.subscribe_with_channel<sheet_state_t>(
       sheets, [this](const std::string& c, const auto& m) { on_sheet(c, m); }));
+  s.push_back(bus_.subscribe<prepreg_lcm::sim_clock_t>(std::string(ch::kSimClock),
+                                                       [this](const prepreg_lcm::sim_clock_t& m) { sim_clock_ = m; }));
   s.push_back(bus_.subscribe_with_channel<camera_status_t>(
       std::string(ch::kCameraStatusPrefix) + ".*",
       [this](const std::string& c, const camera_status_t& m) {
@@ -162,6 +164,10 @@ void CellMonitor::complete() {
   if (!pending_) return;
   CycleRecord& r = *pending_;
   r.seen_utime = clock_();
+  if (sim_clock_) {
+    r.real_time_factor = sim_clock_->real_time_factor;
+    r.clock_held = sim_clock_->state == prepreg_lcm::sim_clock_t::STATE_HELD;
+  }
   if (!r.state && state_) {  // CELL_STATE of this cycle lost: the latest state known
     r.state = state_;
     r.reason = reason_;

@@ -94,6 +94,7 @@ class CellMonitor {
   std::map<std::string, std::pair<prepreg_lcm::camera_status_t, std::int64_t>> cameras_;
   std::map<std::string, std::int64_t> arms_seen_, grippers_seen_;  // suffix -> monitor utime
   MonitorSummary summary_;
+  std::optional<prepreg_lcm::sim_clock_t> sim_clock_;  // latest SIM_CLOCK
 };
 
 }  // namespace cell

@@ -28,7 +28,7 @@ std::string CellController::open_cameras(double deadline_s) {
   for (;;) {
     std::vector<drivers::DepthFrame> frames;
     cameras_.read_all(frames);
-    handle_bus(0);
+    wait_for_next_frames();
     for (int i = 0; i < cameras_.size(); ++i) seen[i] = seen[i] || cameras_.slot(i).last_good_host_us > 0;
     if (std::all_of(seen.begin(), seen.end(), [](bool s) { return s; })) return "";
     if (steady_s() > camera_deadline) break;
@@ -95,7 +95,7 @@ std::string CellController::first_track(double deadline_s) {
   while (steady_s() <= deadline_s || attempts == 0) {
     std::vector<drivers::DepthFrame> frames;
     cameras_.read_all(frames);
-    handle_bus(0);
+    wait_for_next_frames();
     ++attempts;
     last_track_ = tracker_.track(frames, tracking_mesh(twin_->mesh(), prediction_));
     if (last_track_.status != tracking::TrackStatus::kOk) {
@@ -110,6 +110,12 @@ std::string CellController::first_track(double deadline_s) {
 }
 
 CellState CellController::startup() {
+  if (sim_clock_) {
+    // Simulation time starts with the world's first SIM_CLOCK; the cell's times count from there.
+    advance_clock(0, nullptr);
+    if (!clock_problem_.empty()) return fail(clock_problem_);
+    started_s_ = steady_s();
+  }
   const double deadline = steady_s() + config_.cell.startup_timeout_s;
   status_ = CellStatus{};
   status_.cameras = static_cast<int>(config_.cameras.size());

@@ -57,6 +57,7 @@ std::string format_cycle(const CycleRecord& r) {
     for (const std::string& lost : r.cameras_lost) s += " " + lost;
   }
   s += ages("arms", r.arms) + ages("grippers", r.grippers) + drops(r.bus);
+  if (r.real_time_factor) s += fmt::format(" rtf {:.2f}{}", *r.real_time_factor, r.clock_held ? " held" : "");
   if (!r.reason.empty()) s += " | " + r.reason;
   return s;
 }
@@ -89,6 +90,11 @@ std::string format_summary(const MonitorSummary& s, const drivers::BusCounters& 
                        1e3 * m.p50, 1e3 * m.p90, 1e3 * m.p99, 1e3 * m.max, s.cycles_with_error());
     out += fmt::format("  error score mm: p50 {:.2f} p90 {:.2f} p99 {:.2f} max {:.2f}\n",
                        1e3 * sc.p50, 1e3 * sc.p90, 1e3 * sc.p99, 1e3 * sc.max);
+  }
+  if (s.cycles_with_clock() > 0) {
+    const Percentiles f = s.real_time_factor();
+    out += fmt::format("  simulation clock: real-time factor p50 {:.2f} max {:.2f} ({} cycles)\n", f.p50, f.max,
+                       s.cycles_with_clock());
   }
   if (s.recomputed() > 0) {
     out += fmt::format("  recomputed error: {} cycles, {} disagree (worst {:.4f} mm)\n",

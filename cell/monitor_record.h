@@ -48,6 +48,10 @@ struct CycleRecord {
   std::vector<DeviceAge> arms;
   std::vector<DeviceAge> grippers;
   drivers::BusCounters bus;  // the monitor bus's drop counters when the record was completed
+  // The fake world's simulation clock (SIM_CLOCK), when one runs: its real-time factor and
+  // whether it was held, as last heard.
+  std::optional<double> real_time_factor;
+  bool clock_held = false;
 };
 
 // A CELL_CALIBRATION message as the monitor keeps it (cell/learning/in_situ_calibration.h).

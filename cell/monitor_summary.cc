@@ -11,6 +11,7 @@ void MonitorSummary::add_cycle(const CycleRecord& r) {
   last_seen_utime_ = r.seen_utime;
   ids_.insert(r.cycle_id);
   last_bus_ = r.bus;
+  if (r.real_time_factor) real_time_factors_.push_back(*r.real_time_factor);
   if (r.error) {
     means_m_.push_back(r.error->mean_m);
     scores_m_.push_back(r.error->score_m);

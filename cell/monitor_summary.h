@@ -52,10 +52,14 @@ class MonitorSummary {
   const std::vector<CalibrationEvent>& calibrations() const { return calibrations_; }
   const std::vector<DiagnosisEvent>& diagnoses() const { return diagnoses_; }
   const drivers::BusCounters& last_bus() const { return last_bus_; }
+  // The simulation clock's real-time factor over the cycles that heard one (empty: none did).
+  Percentiles real_time_factor() const { return percentiles(real_time_factors_); }
+  int cycles_with_clock() const { return static_cast<int>(real_time_factors_.size()); }
 
  private:
   static Percentiles percentiles(std::vector<double> values);
 
+  std::vector<double> real_time_factors_;
   std::set<std::int64_t> ids_;  // current run
   int prior_cycles_ = 0, restarts_ = 0;
   std::int64_t prior_missing_ = 0;

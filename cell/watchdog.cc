@@ -37,6 +37,7 @@ WatchdogVerdict judge(const WatchdogInputs& in) {
                                  in.min_cameras, join(in.lost_cameras)));
   }
   if (!v.twin_ok) causes.push_back("twin failure: " + in.twin_problem);
+  if (!in.clock_problem.empty()) causes.push_back(in.clock_problem);
   if (!v.robots_ok) {
     causes.push_back(fmt::format("no arm status within {:.0f} ms from {}", in.robot_status_timeout_ms,
                                  join(in.stale_arms)));

@@ -1,8 +1,8 @@
 #pragma once
 // The cell's watchdog, as a pure function of what the cycle measured, so every rule is testable
 // on its own and the cell recovers by itself the cycle a cause clears:
-//   fresh cameras < min_cameras, a twin failure, or an arm status older than the timeout
-//       -> SAFE_HOLD (no robot or gripper commands), the reason names every cause;
+//   fresh cameras < min_cameras, a twin failure, an arm status older than the timeout, or (on
+//       the fake world's clock) a simulation clock that fell silent -> SAFE_HOLD (no robot or gripper commands), the reason names every cause;
 //   otherwise fewer fresh cameras than configured, or cameras that disagree where they see the
 //       same part of the sheet (calibration check) -> DEGRADED naming them;
 //   otherwise RUNNING.
@@ -32,6 +32,7 @@ struct WatchdogInputs {
   std::string twin_problem;
   std::vector<std::string> stale_arms;    // no IIWA_STATUS within the timeout
   double robot_status_timeout_ms = 0;
+  std::string clock_problem;  // "" while the process's clock runs (always on the wall)
 };
 
 struct WatchdogVerdict {

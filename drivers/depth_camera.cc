@@ -1,12 +1,10 @@
 #include "drivers/depth_camera.h"
 
+#include "common/process_clock.h"
+
 namespace drivers {
 
-std::int64_t host_clock_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
+std::int64_t host_clock_us() { return prepreg::process_steady_us(); }
 
 const char* to_string(ReadStatus status) {
   switch (status) {

@@ -111,8 +111,9 @@ class DepthCamera {
   virtual DriverResult deactivate() = 0;
 };
 
-// The host clock of DepthFrame::host_time_us: std::chrono::steady_clock in us, one definition
-// for every back-end so host times of different cameras compare.
+// The host clock of DepthFrame::host_time_us: std::chrono::steady_clock in us (simulation time
+// when the process runs on the fake world's clock, common/process_clock.h), one definition for
+// every back-end so host times of different cameras compare.
 std::int64_t host_clock_us();
 
 const char* to_string(ReadStatus status);

@@ -1,16 +1,14 @@
 #include "drivers/lcm_bus.h"
 
+#include "common/process_clock.h"
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
 
 namespace drivers {
 
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+std::int64_t utime_now() { return prepreg::process_epoch_us(); }
 
 LcmBus::LcmBus(std::string url) : url_(std::move(url)) {
   lcm_ = lcm_create(url_.c_str());

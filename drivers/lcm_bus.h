@@ -33,7 +33,8 @@ namespace drivers {
 // Loopback multicast, never leaves the host (ttl=0); LCM's own default group and port.
 inline constexpr const char* kLoopbackLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
 
-// Microseconds since the Unix epoch (the utime of every message).
+// Microseconds since the Unix epoch (the utime of every message); simulation time when the
+// process runs on the fake world's clock (common/process_clock.h).
 std::int64_t utime_now();
 
 struct BusCounters {

@@ -36,6 +36,10 @@ inline constexpr std::string_view kSimFault = "SIM_FAULT";  // sim_fault_t, fake
 // The fake world's true sheet (sheet_state_t, SOURCE_OBSERVED with coverage 1), fake hardware only:
 // lets tests and the monitor compare the tracker and the twin with the truth.
 inline constexpr std::string_view kSimTruth = "SIM_SHEET_TRUTH";
+// The fake world's simulation clock (sim_clock_t) and its lockstep clients' holds
+// (sim_clock_hold_t), fake hardware only: drivers/sim_time.h.
+inline constexpr std::string_view kSimClock = "SIM_CLOCK";
+inline constexpr std::string_view kSimClockHold = "SIM_CLOCK_HOLD";
 
 // Arm names of the standard cell.
 inline constexpr std::string_view kArmLeft = "LEFT";      // iiwa 7 R800

@@ -234,6 +234,23 @@ std::string message_problem(const prepreg_lcm::sim_fault_t& msg) {
   return "fault '" + msg.fault + "' is not one of dead, frozen, stale, drop, bumped, status_silent, diverge, slow";
 }
 
+std::string message_problem(const prepreg_lcm::sim_clock_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}, {"sim_us", msg.sim_us}}); !time.empty()) return time;
+  using T = prepreg_lcm::sim_clock_t;
+  if (!std::isfinite(msg.real_time_factor) || msg.real_time_factor < 0) {
+    return "real_time_factor = " + std::to_string(msg.real_time_factor) + ", expected a finite number >= 0";
+  }
+  return state_problem("state", msg.state, T::STATE_RUNNING, T::STATE_HELD);
+}
+
+std::string message_problem(const prepreg_lcm::sim_clock_hold_t& msg) {
+  if (std::string time = times_problem({{"utime", msg.utime}, {"until_utime", msg.until_utime}}); !time.empty()) {
+    return time;
+  }
+  if (msg.client.empty()) return "client is empty";
+  return "";
+}
+
 std::string message_problem(const prepreg_lcm::calibration_t& msg) {
   if (std::string time = times_problem({{"utime", msg.utime}}); !time.empty()) return time;
   if (msg.verdict != "adopted" && msg.verdict != "refused" && msg.verdict != "failed") {

@@ -19,6 +19,8 @@
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_clock_hold_t.hpp>
+#include <prepreg_lcm/sim_clock_t.hpp>
 #include <prepreg_lcm/sim_fault_t.hpp>
 
 namespace drivers {
@@ -36,6 +38,8 @@ std::string message_problem(const prepreg_lcm::grasp_plan_t& msg);
 std::string message_problem(const prepreg_lcm::gripper_command_t& msg);
 std::string message_problem(const prepreg_lcm::gripper_status_t& msg);
 std::string message_problem(const prepreg_lcm::sim_fault_t& msg);
+std::string message_problem(const prepreg_lcm::sim_clock_t& msg);
+std::string message_problem(const prepreg_lcm::sim_clock_hold_t& msg);
 // Verdict one of adopted / refused / failed; parameter arrays of the count with finite values
 // and lower95 <= value <= upper95; errors >= 0 or NaN (a simulation that failed).
 std::string message_problem(const prepreg_lcm::calibration_t& msg);

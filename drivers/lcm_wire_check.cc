@@ -41,6 +41,8 @@ const std::map<std::string, std::string, std::less<>>& layout_texts() {
       {"gripper_status_t", "int64_t utime; int8_t state; float width_m; boolean holding"},
       {"gripper_command_t", "int64_t utime; int8_t action; float width_m; float force_n"},
       {"sim_fault_t", "int64_t utime; string target; string fault; boolean active"},
+      {"sim_clock_t", "int64_t utime; int64_t sim_us; double real_time_factor; int8_t state; string held_by"},
+      {"sim_clock_hold_t", "int64_t utime; string client; int64_t until_utime; boolean leaving"},
       {"grasp_plan_t",
        "int64_t utime; int64_t plan_id; int32_t num_grasps; float material_u_m[num_grasps]; "
        "float material_v_m[num_grasps]; float cell_x_m[num_grasps]; float cell_y_m[num_grasps]; "

@@ -13,7 +13,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::chrono::milliseconds kFirstBackoff{100}, kMaxBackoff{2000};
 
-std::int64_t steady_ms() { return host_clock_us() / 1000; }
+// Read deadlines are on the wall: the device's driver waits in wall time whatever clock the
+// process runs on (a simulated one may stand still while this process holds it).
+std::int64_t steady_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 }  // namespace
 

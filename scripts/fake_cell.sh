@@ -33,7 +33,14 @@ mkdir -p "$out"
 env_file=$out/v4l2_emulation.env
 rm -f "$env_file"
 
-build/sim_hw/cell_world --config "$config" --world "$world" --emulation-env "$env_file" \
+# On "clock": "sim" (the fake cell's default) the world's clock waits for every cycle of the
+# controller (lockstep), so a run repeats whatever the machine's speed.
+world_args=() monitor_args=()
+if grep -Eq '"clock"[[:space:]]*:[[:space:]]*"sim"' "$config"; then
+  world_args+=(--lockstep cell_controller)
+  monitor_args+=(--sim-clock)
+fi
+build/sim_hw/cell_world --config "$config" --world "$world" --emulation-env "$env_file" "${world_args[@]}" \
   > "$out/world.log" 2>&1 &
 world_pid=$!
 monitor_pid=
@@ -58,7 +65,7 @@ done
 [[ -s $env_file ]] || { echo "fake_cell.sh: the fake world did not come up in 120 s" >&2; exit 1; }
 echo "fake world up: $(tail -n 1 "$out/world.log")"
 
-build/cell/cell_monitor --summary > "$out/monitor.log" 2>&1 &
+build/cell/cell_monitor --summary "${monitor_args[@]}" > "$out/monitor.log" 2>&1 &
 monitor_pid=$!
 
 # The cell reads its cameras through the real V4L2 back-end, from the emulated devices.

@@ -1,6 +1,8 @@
 #include "sim_hw/cell_world.h"
 
 #include <algorithm>
+#include <cmath>
+#include <future>
 #include <stdexcept>
 
 #include <prepreg_lcm/sheet_state_t.hpp>
@@ -14,7 +16,15 @@ namespace sim_hw {
 
 using Clock = std::chrono::steady_clock;
 
-CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus) : config_(std::move(config)), bus_(bus) {
+namespace {
+
+// The k-th event of a periodic kind, in whole microseconds since the start.
+std::int64_t event_us(std::int64_t k, double period_s) { return std::llround(static_cast<double>(k) * period_s * 1e6); }
+
+}  // namespace
+
+CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus, WorldClockOptions clock)
+    : config_(std::move(config)), bus_(bus) {
   const WorldStart start = plan_world_start(config_);
   sheet_ = std::make_unique<TrueSheet>(config_.sheet, config_.material, config_.truth);
   load_report_ = sheet_->load(start.grasps);
@@ -34,12 +44,13 @@ CellWorld::CellWorld(WorldConfig config, drivers::LcmBus& bus) : config_(std::mo
   update_scene();
   for (const WorldCamera& cam : config_.cameras)
     cameras_.push_back(std::make_unique<EmulatedCameraRig>(cam, [this](double) { return scene(); }));
+  clock_ = std::make_unique<WorldClock>(std::move(clock), bus_);
   subscribe();
-  next_arm_tick_ = next_gripper_tick_ = Clock::now();
+  serve_due_events();  // time 0: the first statuses and frames
+  clock_->publish(false);
 }
 
 CellWorld::~CellWorld() {
-  stop();
   for (const auto id : subscriptions_) bus_.unsubscribe(id);
 }
 
@@ -69,7 +80,7 @@ void CellWorld::subscribe() {
 void CellWorld::on_fault(const std::string& target, const std::string& fault, bool active) {
   bool ours = false, applied = false;
   for (auto& cam : cameras_)
-    if (cam->name() == target) ours = true, applied = cam->apply_fault(fault, active);
+    if (cam->name() == target) ours = true, applied = cam->apply_fault(fault, active, clock_->sim_s());
   for (auto& arm : arms_)
     if (arm->name() == target) {
       ours = true;
@@ -80,42 +91,78 @@ void CellWorld::on_fault(const std::string& target, const std::string& fault, bo
   else ++(applied ? counters_.faults_applied : counters_.faults_rejected);
 }
 
-void CellWorld::start() {
-  if (physics_.joinable()) return;
-  started_at_ = Clock::now();
-  stop_physics_ = false;
-  physics_ = std::thread([this] { physics_loop(); });
-  for (auto& cam : cameras_) cam->start();
-}
-
-void CellWorld::stop() {
-  for (auto& cam : cameras_) cam->stop();
-  stop_physics_ = true;
-  if (physics_.joinable()) physics_.join();
-}
-
-void CellWorld::physics_loop() {
-  const auto dt = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.dt_s));
-  const double truth_period_s = 1.0 / config_.truth_hz;
-  double next_truth_s = 0.0;
-  auto next = Clock::now();
-  while (!stop_physics_) {
-    sheet_->step(config_.dt_s);
-    sim_time_s_ = sim_time_s_.load() + config_.dt_s;
-    update_scene();
-    if (sim_time_s_ >= next_truth_s) {
-      publish_truth();
-      next_truth_s += truth_period_s;
-    }
-    next += dt;
-    const auto now = Clock::now();
-    if (now > next + dt) {  // more than a step behind: do not try to catch up, run on from now
-      next = now;
-      std::lock_guard lock(counters_mutex_);
-      ++counters_.physics_overruns;
-    }
-    std::this_thread::sleep_until(next);
+void CellWorld::drain_bus() {
+  while (bus_.handle_for(std::chrono::milliseconds(0)).messages > 0) {
   }
+}
+
+std::int64_t CellWorld::next_event_us() const {
+  std::int64_t next = std::min({event_us(arm_ticks_, 1.0 / config_.arm_status_hz),
+                                event_us(physics_steps_, config_.dt_s), event_us(truths_, 1.0 / config_.truth_hz)});
+  for (const auto& cam : cameras_) next = std::min(next, cam->next_frame_us());
+  return next;
+}
+
+void CellWorld::serve_due_events() {
+  const std::int64_t now = clock_->sim_us();
+  // The arms and grippers first (they carry the jaws the sheet follows), then the sheet, the
+  // truth, and the frames of the sheet as it now is.
+  const double arm_dt_s = 1.0 / config_.arm_status_hz;
+  while (event_us(arm_ticks_, arm_dt_s) <= now) {
+    const bool grippers_due = event_us(gripper_ticks_, 1.0 / config_.gripper_status_hz) <= event_us(arm_ticks_, arm_dt_s);
+    tick_devices(arm_dt_s, grippers_due);
+    ++arm_ticks_;
+    if (grippers_due) ++gripper_ticks_;
+  }
+  bool stepped = false;
+  while (event_us(physics_steps_, config_.dt_s) <= now) {
+    if (physics_steps_ > 0) sheet_->step(config_.dt_s);  // step 0 is the loaded sheet at time 0
+    ++physics_steps_;
+    stepped = true;
+  }
+  if (stepped) update_scene();
+  while (event_us(truths_, 1.0 / config_.truth_hz) <= now) {
+    publish_truth();
+    ++truths_;
+  }
+  std::vector<std::future<void>> renders;
+  for (auto& cam : cameras_)
+    if (cam->next_frame_us() <= now) renders.push_back(std::async(std::launch::async, [&cam] { cam->serve_frame(); }));
+  for (auto& r : renders) r.get();
+}
+
+bool CellWorld::turn(std::int64_t until_us, const std::atomic<bool>* stop) {
+  drain_bus();
+  const std::int64_t target = std::min({next_event_us(), clock_->limit_us(), until_us});
+  if (target <= clock_->sim_us()) return false;
+  if (!clock_->pace_to(target, stop)) return false;
+  drain_bus();  // what arrived while pacing acts at the new time, as it would have on the wall
+  clock_->advance_to(target);
+  serve_due_events();
+  clock_->publish(false);
+  return true;
+}
+
+void CellWorld::run_for(std::chrono::duration<double> duration, const std::atomic<bool>* stop) {
+  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(duration);
+  while (Clock::now() < end && !(stop && stop->load())) {
+    if (!turn(WorldClock::kUnlimited, stop)) clock_->wait_held(std::chrono::milliseconds(5));
+  }
+}
+
+bool CellWorld::run_until(double sim_s, std::chrono::duration<double> patience, const std::atomic<bool>* stop) {
+  const std::int64_t until = std::llround(sim_s * 1e6);
+  auto held_since = Clock::now();
+  while (clock_->sim_us() < until) {
+    if (stop && stop->load()) return false;
+    if (turn(until, stop)) {
+      held_since = Clock::now();
+    } else {
+      if (Clock::now() - held_since > patience) return false;
+      clock_->wait_held(std::chrono::milliseconds(5));
+    }
+  }
+  return true;
 }
 
 void CellWorld::update_scene() {
@@ -163,26 +210,6 @@ void CellWorld::tick_devices(double dt_s, bool publish_grippers) {
   }
 }
 
-void CellWorld::run_for(std::chrono::duration<double> duration, const std::atomic<bool>* stop) {
-  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(duration);
-  const auto arm_period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.arm_status_hz));
-  const auto gripper_period =
-      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.gripper_status_hz));
-  const double arm_dt_s = 1.0 / config_.arm_status_hz;
-  while (Clock::now() < end && !(stop && stop->load())) {
-    const auto now = Clock::now();
-    if (now >= next_arm_tick_) {
-      const bool grippers_due = now >= next_gripper_tick_;
-      tick_devices(arm_dt_s, grippers_due);
-      next_arm_tick_ = std::max(next_arm_tick_ + arm_period, now - arm_period);
-      if (grippers_due) next_gripper_tick_ = std::max(next_gripper_tick_ + gripper_period, now - gripper_period);
-    }
-    const auto wait = std::clamp(next_arm_tick_ - Clock::now(), Clock::duration::zero(),
-                                 std::chrono::duration_cast<Clock::duration>(std::chrono::milliseconds(5)));
-    bus_.handle_for(std::chrono::ceil<std::chrono::milliseconds>(wait));  // never 0 ms: no busy wait
-  }
-}
-
 std::string CellWorld::emulation_spec() const {
   std::string spec;
   for (const auto& cam : cameras_) {
@@ -194,8 +221,9 @@ std::string CellWorld::emulation_spec() const {
 
 WorldSnapshot CellWorld::snapshot() const {
   WorldSnapshot s;
-  s.sim_time_s = sim_time_s_.load();
-  s.wall_time_s = physics_.joinable() ? std::chrono::duration<double>(Clock::now() - started_at_).count() : 0.0;
+  s.sim_time_s = clock_->sim_s();
+  s.real_time_factor = clock_->real_time_factor();
+  s.held_by = clock_->held_by();
   s.physics = sheet_->stats();
   s.sag_m = sheet_->sag_m();
   for (const auto& cam : cameras_) s.camera_frames.emplace_back(cam->name(), cam->frames());

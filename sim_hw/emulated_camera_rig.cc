@@ -1,6 +1,7 @@
 #include "sim_hw/emulated_camera_rig.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace sim_hw {
@@ -11,7 +12,7 @@ SimulatedD415Options options_for(const WorldCamera& camera, SceneSource scene) {
   o.scene = std::move(scene);
   o.noise = camera.noise;
   o.seed = camera.seed;
-  o.clock = SimClock::kWall;  // the bridge needs a camera that runs at real time
+  o.clock = SimClock::kSimulated;  // the world's clock: each read renders the next frame at once
   return o;
 }
 
@@ -22,44 +23,25 @@ EmulatedCameraRig::EmulatedCameraRig(const WorldCamera& camera, SceneSource scen
   drivers::DriverResult r = d415_.configure(camera_.config);
   if (r.ok) r = d415_.activate();
   if (!r.ok) throw std::runtime_error("camera " + camera_.config.name + ": " + r.message);
-  activated_at_ = std::chrono::steady_clock::now();
   bridge_ = std::make_unique<V4l2CameraBridge>(d415_, camera_.config, camera_.node_prefix);
 }
 
-EmulatedCameraRig::~EmulatedCameraRig() { stop(); }
+EmulatedCameraRig::~EmulatedCameraRig() = default;
 
-void EmulatedCameraRig::start() {
-  if (thread_.joinable()) return;
-  stop_ = false;
-  thread_ = std::thread([this] { run(); });
+void EmulatedCameraRig::serve_frame() {
+  const drivers::ReadStatus s = bridge_->pump();
+  if (s == drivers::ReadStatus::kFrame) ++frames_;
+  if (s == drivers::ReadStatus::kLost) ++lost_;
+  // The camera's own time is the frame it last made (a dropped frame moves it on by a period, a
+  // timeout to its deadline); its next frame is a period after that and never before the next
+  // one the world expected.
+  const std::int64_t period_us = std::llround(1e6 / std::max(1, camera_.config.depth_mode.fps));
+  const std::int64_t camera_us = std::llround(d415_.sim_time_s() * 1e6);
+  next_frame_us_ = std::max(next_frame_us_, camera_us) + period_us;
 }
 
-void EmulatedCameraRig::stop() {
-  stop_ = true;
-  if (thread_.joinable()) thread_.join();
-}
-
-void EmulatedCameraRig::run() {
-  // read() waits for the next frame; when it returns at once (a dead device) the loop is still
-  // paced at the frame rate, as the d415_v4l2_emulator does.
-  const auto period = std::chrono::microseconds(1000000 / std::max(1, camera_.config.depth_mode.fps));
-  auto next = std::chrono::steady_clock::now();
-  while (!stop_) {
-    const drivers::ReadStatus s = bridge_->pump();
-    if (s == drivers::ReadStatus::kFrame) ++frames_;
-    if (s == drivers::ReadStatus::kLost) ++lost_;
-    next = std::max(next + period, std::chrono::steady_clock::now() - period);
-    std::this_thread::sleep_until(next);
-  }
-}
-
-double EmulatedCameraRig::now_s() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_at_).count();
-}
-
-bool EmulatedCameraRig::apply_fault(const std::string& fault, bool active) {
+bool EmulatedCameraRig::apply_fault(const std::string& fault, bool active, double t) {
   D415FaultConfig f = d415_.faults();
-  const double t = now_s();
   const double never = D415FaultConfig::kNever;
   if (fault == "dead") {
     if (active) f.dead_from_s = t, f.dead_until_s = never;

@@ -44,7 +44,7 @@ drivers::ReadStatus V4l2CameraBridge::pump() {
     have_clock_offset_ = false;
   }
   if (!have_clock_offset_) {
-    clock_offset_us_ = monotonic_us() - frame_.device_time_us;
+    clock_offset_us_ = drivers::host_clock_us() - frame_.device_time_us;
     have_clock_offset_ = true;
   }
   frame_.device_time_us += clock_offset_us_;

@@ -3,13 +3,14 @@
 // frame read from the camera is published into a depth node "<prefix>_depth" (Z16) and, when the
 // camera has colour, a colour node "<prefix>_color" (YUYV), which the LD_PRELOAD shim then shows
 // a process as /dev/videoN. The camera's sequence numbers pass through unchanged and its device
-// timestamps move onto CLOCK_MONOTONIC (as uvcvideo stamps buffers) by an offset fixed at the
-// first frame after each plug-in, so they still advance, stall or jump as the camera's do and
-// its faults (dropped frames, frozen or stale streams) reach the V4L2 driver as
-// they would from a real device. The camera's clock must run at real time, as a device's does
-// (a simulated D415: scene "clock": "wall"); a simulated clock that falls behind real time
-// whenever rendering is slow would make its frames look late, i.e. stale. a lost camera marks the nodes dead (unplug) and its return
-// creates them again (plug in).
+// timestamps move onto the host's clock (drivers::host_clock_us(): CLOCK_MONOTONIC, as uvcvideo
+// stamps buffers, or the fake world's simulation time when the process runs on it, which a cell
+// on "clock": "sim" reads as its own) by an offset fixed at the first frame after each plug-in,
+// so they still advance, stall or jump as the camera's do and its faults (dropped frames, frozen
+// or stale streams) reach the V4L2 driver as they would from a real device. The camera's clock
+// must run with the host's (a simulated D415 on the wall for a wall-clock reader, on the world's
+// clock for a reader on it): frames of a camera slower than its reader's clock look late, i.e.
+// stale. A lost camera marks the nodes dead (unplug) and its return creates them again (plug in).
 
 #include <memory>
 #include <optional>

@@ -96,8 +96,8 @@ int main(int argc, char** argv) {
 
   cell::CellController cell(config, *bus, fault_injection);
   if (!out_dir.empty()) cell.set_learning_directory((std::filesystem::path(out_dir) / "learning").string());
-  fmt::print("cell_controller: STARTING ({} cameras, {} arms, LCM {})\n", config.cameras.size(),
-             config.hardware.arms.size(), config.cell.lcm_url);
+  fmt::print("cell_controller: STARTING ({} cameras, {} arms, LCM {}, clock {})\n", config.cameras.size(),
+             config.hardware.arms.size(), config.cell.lcm_url, drivers::to_string(config.cell.clock));
   std::fflush(stdout);
   if (const std::string why = cell.twin_priority_problem(); !why.empty()) {
     fmt::print("cell_controller: note: the twin's worker runs at normal priority ({})\n", why);
@@ -135,10 +135,14 @@ int main(int argc, char** argv) {
     if (!quiet && now - last_line >= std::chrono::seconds(1)) {
       const double s = std::chrono::duration<double>(now - last_line).count();
       fmt::print("{:8.1f} s  {:<9} {:5.1f} Hz  latency p50 {:5.1f} p99 {:5.1f} ms  error mean {:5.1f} max {:5.1f} mm  "
-                 "cameras {}/{}  twin step {:4.1f} ms (sub-steps <= {})  {}{}{}\n",
+                 "cameras {}/{}  twin step {:4.1f} ms (sub-steps <= {}){}  {}{}{}\n",
                  std::chrono::duration<double>(now - start).count(), cell::to_string(r.state), cycles_in_line / s,
                  percentile(latency, 0.5), percentile(latency, 0.99), 1e3 * error_mean, 1e3 * error_max, camera_ok,
-                 config.cameras.size(), percentile(twin_ms, 0.5), max_substeps, runner ? runner->current() : "",
+                 config.cameras.size(), percentile(twin_ms, 0.5), max_substeps,
+                 cell.sim_clock() ? fmt::format("  sim t {:.1f} s rtf {:.2f}", 1e-6 * cell.sim_clock()->reading().sim_us,
+                                                cell.sim_clock()->reading().real_time_factor)
+                                  : std::string(),
+                 runner ? runner->current() : "",
                  cell.reason().empty() ? "" : "  reason: ", cell.reason());
       std::fflush(stdout);
       last_line = now;
@@ -194,12 +198,8 @@ int main(int argc, char** argv) {
     if (max_seconds > 0 && std::chrono::duration<double>(now - start).count() >= max_seconds) break;
     // Sleep to the next start while dispatching LCM: a period on, just after the cameras' next
     // frame (cell/cycle_pacer.h); a late cycle starts the next at once.
-    const std::int64_t next_us = cell.next_cycle_start_us(cycle_start_us, r);
-    while (!g_stop) {
-      const std::int64_t left_ms = (next_us - drivers::host_clock_us()) / 1000;
-      if (left_ms <= 0) break;
-      cell.handle_bus(static_cast<int>(left_ms));
-    }
+    // On the simulation clock the world waits here for the cycle, and runs on to next_us.
+    cell.wait_until(cell.next_cycle_start_us(cycle_start_us, r), &g_stop);
   }
   const cell::CellState final_state = cell.state();
   cell.stop(g_stop ? "stopped by signal" : "stopped");

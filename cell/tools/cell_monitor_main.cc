@@ -7,9 +7,11 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 
 #include "cell/cell_monitor.h"
 #include "cell/monitor_format.h"
+#include "drivers/sim_clock_client.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -21,7 +23,7 @@ int main(int argc, char** argv) {
   std::string url = drivers::kLoopbackLcmUrl;
   double max_seconds = 0.0;
   int every = 1;
-  bool summary = false, no_recompute = false;
+  bool summary = false, no_recompute = false, sim_clock = false;
   app.add_option("--lcm", url, "LCM URL (default: loopback udpm, ttl=0)");
   app.add_option("--max-seconds", max_seconds, "exit after this many seconds (0: until Ctrl-C)")
       ->check(CLI::NonNegativeNumber);
@@ -30,10 +32,16 @@ int main(int argc, char** argv) {
   app.add_flag("--summary", summary, "print a summary at exit");
   app.add_flag("--no-recompute", no_recompute,
                "do not recompute the error from SHEET_OBSERVED/SHEET_PREDICTED");
+  app.add_flag("--sim-clock", sim_clock,
+               "run on the fake world's SIM_CLOCK (a cell on \"clock\": \"sim\"): device ages and the "
+               "cycle rate in simulation time");
   CLI11_PARSE(app, argc, argv);
 
   try {
     drivers::LcmBus bus(url);
+    // Before the monitor: its clock is the process's (drivers::utime_now).
+    std::optional<drivers::SimClockClient> clock;
+    if (sim_clock) clock.emplace(bus, "");
     cell::MonitorOptions options;
     options.recompute = !no_recompute;
     std::int64_t printed = 0;

@@ -1,9 +1,12 @@
 // cell_world: the cell's fake hardware in one process (see sim_hw/cell_world.h and
 // docs/fake_world.md):
 //   cell_world --config CELL.json --world WORLD.json [--lcm URL] [--max-seconds S]
-//              [--emulation-env FILE] [--quiet]
+//              [--emulation-env FILE] [--max-real-time-factor F] [--lockstep CLIENT]... [--quiet]
 // Loads the ply as the cell config's grasp plan says, then serves the arms, grippers and cameras
-// until --max-seconds pass (0 = until SIGINT/SIGTERM). --emulation-env writes the two lines a
+// on its simulation clock (SIM_CLOCK; sim_hw/world_clock.h) until --max-seconds of wall time pass
+// (0 = until SIGINT/SIGTERM). The clock runs as fast as the physics allows, at most
+// --max-real-time-factor (default 1: real time; 0: no limit), and never past the hold of a
+// --lockstep client (the cell controller on "clock": "sim"), which it waits for from time 0. --emulation-env writes the two lines a
 // launcher passes to the cell process (`env $(cat FILE) build/cell/cell_controller ...`):
 //   PREPREG_V4L2_EMULATION=/dev/video0=<node>,...   LD_PRELOAD=<path of libprepreg_v4l2_shim.so>
 // One status line per second unless --quiet. Exit status: 0 stopped on request or at
@@ -49,10 +52,10 @@ std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
     holding += g;
   }
   return fmt::format(
-      "t={:.1f}s rtf={:.2f} step={:.1f}ms (max {:.1f}, failed {}, overruns {}) frames:{} arms={} moving={} "
+      "t={:.1f}s rtf={:.2f}{} step={:.1f}ms (max {:.1f}, failed {}) frames:{} arms={} moving={} "
       "holding=[{}] sag={:.3f}m truth={} cmds={}/{} rejected={}",
-      s.sim_time_s, s.wall_time_s > 0 ? s.sim_time_s / s.wall_time_s : 0.0, s.physics.last_step_ms,
-      s.physics.max_step_ms, s.physics.failures, s.counters.physics_overruns, cams, arms, s.arms_moving, holding, s.sag_m,
+      s.sim_time_s, s.real_time_factor, s.held_by.empty() ? "" : " held by " + s.held_by, s.physics.last_step_ms,
+      s.physics.max_step_ms, s.physics.failures, cams, arms, s.arms_moving, holding, s.sag_m,
       s.counters.truth_published, s.counters.arm_commands, s.counters.gripper_commands,
       s.counters.arm_commands_rejected + s.counters.gripper_commands_rejected);
 }
@@ -71,11 +74,20 @@ int main(int argc, char** argv) {
   std::string cell_path, world_path, lcm_url = drivers::kLoopbackLcmUrl, env_path;
   double max_seconds = 0;
   bool quiet = false;
+  sim_hw::WorldClockOptions clock;
   app.add_option("--config", cell_path, "cell config JSON (arms, grippers, cameras, job.plan_file)")->required();
   app.add_option("--world", world_path, "world config JSON (true sheet, material, camera poses)")->required();
   app.add_option("--lcm", lcm_url, "LCM URL (default loopback udpm, ttl=0)");
   app.add_option("--max-seconds", max_seconds, "stop after this long (s); 0 = until killed")->check(CLI::NonNegativeNumber);
   app.add_option("--emulation-env", env_path, "write PREPREG_V4L2_EMULATION and LD_PRELOAD lines here");
+  app.add_option("--max-real-time-factor", clock.max_real_time_factor,
+                 "simulated seconds per wall second at most (default 1; 0: as fast as the physics allows)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--lockstep", clock.lockstep,
+                 "a client (e.g. cell_controller) whose SIM_CLOCK_HOLD the clock waits for, from time 0");
+  app.add_option("--lockstep-silence-s", clock.client_silence_s,
+                 "wall seconds a lockstep client may stay silent while the clock waits on it before it is dropped")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "no status lines");
   CLI11_PARSE(app, argc, argv);
 
@@ -90,7 +102,7 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, on_signal);
   try {
     drivers::LcmBus bus(lcm_url);
-    sim_hw::CellWorld world(config, bus);
+    sim_hw::CellWorld world(config, bus, clock);
     const auto& load = world.load_report();
     if (!quiet)
       fmt::print("cell_world: ply loaded ({}; {} Newton iterations, {:.1f} s), sag {:.3f} m\n",
@@ -98,14 +110,13 @@ int main(int argc, char** argv) {
     if (!env_path.empty()) write_emulation_env(env_path, world.emulation_spec());
     if (!quiet) fmt::print("emulation {}\n", world.emulation_spec());
     std::fflush(stdout);
-    world.start();
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(max_seconds);
     while (!g_stop && (max_seconds == 0 || std::chrono::steady_clock::now() < end)) {
       world.run_for(std::chrono::seconds(1), &g_stop);
       if (!quiet) fmt::print("{}\n", status_line(world.snapshot(), static_cast<int>(world.arms().size())));
+      if (const std::string notice = world.clock().take_notice(); !notice.empty()) fmt::print("cell_world: {}\n", notice);
       std::fflush(stdout);
     }
-    world.stop();
     if (!quiet) fmt::print("cell_world: stopped\n");
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_world: {}\n", e.what());
