@@ -41,6 +41,7 @@ LoggedCycles read_logged_cycles(const std::string& log_path, int vertex_count) {
       ++out.unpaired;
       return;
     }
+    if (vertex_count <= 0) vertex_count = p.predicted->num_vertices;  // the first paired cycle's mesh
     if (p.observed->num_vertices != vertex_count || p.predicted->num_vertices != vertex_count) {
       ++out.other_mesh;
       return;

@@ -22,7 +22,7 @@ struct LoggedCycles {
 };
 
 // Reads every SHEET_OBSERVED and SHEET_PREDICTED event; a cycle is kept when both arrived for
-// it with `vertex_count` vertices. When cycle ids start again (the cell restarted), the
+// it with `vertex_count` vertices (<= 0: as many as the first paired cycle has). When cycle ids start again (the cell restarted), the
 // cycles of the new run get ids offset past the old ones' so that labels stay unique.
 // Throws std::runtime_error naming the file when it cannot be read or is not an LCM log.
 LoggedCycles read_logged_cycles(const std::string& log_path, int vertex_count);
