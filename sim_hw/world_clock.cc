@@ -19,7 +19,7 @@ WorldClock::WorldClock(WorldClockOptions options, drivers::LcmBus& bus) : option
                   .count();
   for (const std::string& name : options_.lockstep) clients_[name] = Client{0, false, Wall::now()};
   process_time_.set_us(epoch_us_);
-  anchor_wall_ = rate_wall_ = last_held_publish_ = Wall::now();
+  anchor_wall_ = rate_wall_ = Wall::now();  // last_held_publish_: never, so the first hold is told at once
   subscription_ = bus_.subscribe<prepreg_lcm::sim_clock_hold_t>(
       std::string(drivers::channels::kSimClockHold), [this](const prepreg_lcm::sim_clock_hold_t& msg) {
         const auto it = clients_.find(msg.client);

@@ -19,6 +19,8 @@
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_clock_hold_t.hpp>
+#include <prepreg_lcm/sim_clock_t.hpp>
 #include <prepreg_lcm/sim_fault_t.hpp>
 
 #include "drivers/lcm_bus.h"
@@ -83,6 +85,12 @@ TEST_CASE("every message type's wire layout walks its encoding exactly", "[lcm_b
   f.target = "twin";
   f.fault = "diverge";
   check_walks_exactly(f);
+  prepreg_lcm::sim_clock_t clock{};
+  clock.held_by = "cell_controller";
+  check_walks_exactly(clock);
+  prepreg_lcm::sim_clock_hold_t hold{};
+  hold.client = "cell_controller";
+  check_walks_exactly(hold);
   prepreg_lcm::grasp_plan_t g{};
   g.num_grasps = 2;
   for (auto* v : {&g.material_u_m, &g.material_v_m, &g.cell_x_m, &g.cell_y_m, &g.cell_z_m}) v->assign(2, 0.5f);

@@ -75,7 +75,8 @@ class FakeCell {
     world_ = std::make_unique<ChildProcess>(
         CELL_WORLD_EXE,
         std::vector<std::string>{"--config", kCellConfig, "--world", kWorldConfig, "--lcm",
-                                 drivers::kLoopbackLcmUrl, "--emulation-env", env_file.string()},
+                                 drivers::kLoopbackLcmUrl, "--emulation-env", env_file.string(), "--lockstep",
+                                 "cell_controller"},
         std::vector<std::string>{}, (dir_ / "world.log").string());
     const auto deadline = Clock::now() + std::chrono::seconds(60);
     while (!fs::exists(env_file) && Clock::now() < deadline && world_->running()) {

@@ -17,6 +17,7 @@
 #include <catch2/catch.hpp>
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_clock_hold_t.hpp>
 #include <prepreg_lcm/sim_fault_t.hpp>
 
 #include "drivers/iiwa_lcm.h"
@@ -94,7 +95,9 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   v4l2.uri = "depth=" + front.depth_device + ",color=" + front.color_device;
   REQUIRE(reader.configure(v4l2).ok);
   REQUIRE(reader.activate().ok);
-  world.start();
+  // The world runs on its simulation clock, at most at real time (the reader thread reads on the
+  // wall), for the given simulated seconds.
+  const auto run = [&](double seconds) { REQUIRE(world.run_until(world.sim_time_s() + seconds)); };
   // frames counts every frame handed out: a stale one (rendered late on a loaded machine) is
   // still a frame the device delivered.
   std::atomic<int> frames{0}, valid_pixels{0}, lost{0};
@@ -132,8 +135,8 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
     }
   } stop_reader{reading, read_thread};
 
-  const auto running_since = std::chrono::steady_clock::now();  // statuses go out only in run_for
-  world.run_for(0.5s);
+  const double running_since_s = world.sim_time_s();
+  run(0.5);
   REQUIRE_FALSE(left.empty());
   const drivers::JointVector q0 = *drivers::measured_positions(left.back());
   CHECK(left.back().num_joints == 7);
@@ -158,14 +161,12 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   twin_fault.fault = "diverge";
   twin_fault.active = true;
   bus.publish("SIM_FAULT", twin_fault);
-  world.run_for(0.8s);
-  // The arm moves a fixed step per status tick, and ticks a busy machine runs late are skipped:
-  // it may need longer than the 0.8 s (about 8x what it needs on a machine that keeps up). 10 s
-  // more only keeps an arm that never gets there from hanging the test.
+  run(0.8);
+  // The arm moves a fixed step per status tick (of simulated time): 0.8 s is about 8x what it needs.
   const auto reached = [&] {
     return (*drivers::measured_positions(left.back()))[0] == Approx(q0[0] + 0.1).margin(1e-6);
   };
-  for (int i = 0; i < 200 && !reached(); ++i) world.run_for(0.05s);
+  for (int i = 0; i < 200 && !reached(); ++i) run(0.05);
   const drivers::JointVector q1 = *drivers::measured_positions(left.back());
   CHECK(q1[0] == Approx(q0[0] + 0.1).margin(1e-6));
   CHECK(left.back().joint_position_commanded[0] == Approx(target[0]));
@@ -175,10 +176,9 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   const twin::Clamp left_clamp(world.sheet().mesh(), config.plan.grasps[config.plan.index_of("LEFT")].clamp);
   const twin::Vec3 hold = config.plan.grasps[config.plan.index_of("LEFT")].hold_position_m;
   CHECK((left_arm.jaw_pose().translation() - hold).norm() > 0.03);  // A1 +0.1 rad: ~4.5 cm
-  // The sheet follows on its own physics thread, which falls behind real time under a sanitizer
-  // on a loaded machine: wait for two finished steps, the second begun with the arm at rest.
+  // The sheet follows at its physics steps: two more, the second begun with the arm at rest.
   const std::uint64_t version_at_rest = world.sheet().version();
-  for (int i = 0; i < 200 && world.sheet().version() < version_at_rest + 2; ++i) world.run_for(0.05s);
+  for (int i = 0; i < 200 && world.sheet().version() < version_at_rest + 2; ++i) run(0.05);
   INFO("sheet steps " << world.sheet().stats().steps << ", failures " << world.sheet().stats().failures
                       << ", last step " << world.sheet().stats().last_step_ms << " ms");
   REQUIRE(world.sheet().version() >= version_at_rest + 2);
@@ -190,7 +190,7 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   open.action = prepreg_lcm::gripper_command_t::ACTION_OPEN;
   open.width_m = 0.05f;
   bus.publish("GRIPPER_COMMAND_MANUAL", open);
-  world.run_for(0.1s);
+  run(0.1);
   CHECK_FALSE(manual_holding);
   CHECK(left_holding);
 
@@ -200,24 +200,23 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   silent.fault = "status_silent";
   silent.active = true;
   bus.publish("SIM_FAULT", silent);
-  world.run_for(0.05s);
+  run(0.05);
   const int right_before = right_statuses;
-  world.run_for(0.3s);
+  run(0.3);
   CHECK(right_statuses == right_before);
   const std::size_t left_count = left.size();
-  // Statuses at 100 Hz of the wall clock while run_for ran (about 1.75 s of it when the machine
-  // keeps up). A late tick is skipped, not made up, and a busy machine or a sanitizer wakes the
-  // loop late: a tenth of the rate is asked for, enough to tell a periodic status from none.
-  const double ran_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - running_since).count();
+  // Statuses at 100 Hz of simulated time, every one of them, however busy the machine.
+  const double ran_s = world.sim_time_s() - running_since_s;
   INFO("LEFT statuses " << left_count << " in " << ran_s << " s");
-  CHECK(static_cast<double>(left_count) >= 0.1 * 100.0 * ran_s);
+  CHECK(static_cast<double>(left_count) >= 100.0 * ran_s - 1);
+  CHECK(static_cast<double>(left_count) <= 100.0 * ran_s + 2);
 
   // A dead camera: its nodes are unplugged and the reader sees the device lost; cleared, it
   // comes back and frames arrive again. First the reader must be getting frames (a sanitizer on
   // a loaded machine renders slowly). Frames already in the reader's buffers, or rendered before
   // the fault landed, may still arrive after it is sent (a loaded CI machine saw two); none may
   // once the reader has seen the device lost.
-  for (int i = 0; i < 40 && frames < 2; ++i) world.run_for(0.2s);
+  for (int i = 0; i < 40 && frames < 2; ++i) run(0.2);
   INFO("reads before the fault: " << reads());
   REQUIRE(frames >= 2);
   prepreg_lcm::sim_fault_t dead{};
@@ -225,27 +224,25 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   dead.fault = "dead";
   dead.active = true;
   bus.publish("SIM_FAULT", dead);
-  for (int i = 0; i < 160 && lost == 0; ++i) world.run_for(0.05s);
+  for (int i = 0; i < 160 && lost == 0; ++i) run(0.05);
   INFO("reads after the fault: " << reads());
   REQUIRE(lost > 0);
   const int frames_after_lost = frames;
-  world.run_for(0.6s);
+  run(0.6);
   CHECK(frames == frames_after_lost);
   dead.active = false;
   bus.publish("SIM_FAULT", dead);
   const int frames_at_clear = frames;
   // The reader reopens the device with backoff; under a sanitizer or a loaded machine that and
   // the first renders take a few seconds.
-  for (int i = 0; i < 40 && frames - frames_at_clear < 2; ++i) world.run_for(0.2s);
+  for (int i = 0; i < 40 && frames - frames_at_clear < 2; ++i) run(0.2);
   CHECK(frames - frames_at_clear >= 2);
-  // Truth goes out at truth_hz of simulated time, which falls behind the wall clock when steps
-  // are slow (a sanitizer, a loaded machine): wait for a second one rather than count on a rate.
-  for (int i = 0; i < 100 && truths < 2; ++i) world.run_for(0.1s);
+  // Truth goes out at truth_hz of simulated time.
+  for (int i = 0; i < 100 && truths < 2; ++i) run(0.1);
 
   reading = false;
   read_thread.join();
-  world.stop();
-  world.run_for(0.2s);  // delivers what the physics thread published since the last run_for
+  run(0.2);
   const sim_hw::WorldSnapshot s = world.snapshot();
   CHECK(s.counters.arm_commands == 1);
   // The NaN command is dropped by the bus's check; the torque command (valid LCM, not position
@@ -258,7 +255,8 @@ TEST_CASE("cell world: a short run on memq serves arms, grippers, truth, faults 
   const auto expected_truths = static_cast<std::uint64_t>(std::floor(s.sim_time_s * config.truth_hz + 1e-9)) + 1;
   CHECK(s.counters.truth_published + 1 >= expected_truths);
   CHECK(s.counters.truth_published <= expected_truths + 1);
-  CHECK(static_cast<std::uint64_t>(truths) == s.counters.truth_published);
+  // All but the one at time 0, which the constructor sent before the test subscribed.
+  CHECK(static_cast<std::uint64_t>(truths) + 1 == s.counters.truth_published);
   CHECK(truth_vertices == world.sheet().mesh().vertex_count());
   CHECK(s.physics.failures == 0);
   CHECK(s.holding.size() == 3);  // all but MANUAL
@@ -282,4 +280,54 @@ TEST_CASE("cell_world: a bad config exits 1 naming the file and the field", "[wo
   std::ifstream err(dir / "err.txt");
   const std::string text((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
   CHECK_THAT(text, Catch::Contains("world.json") && Catch::Contains("physics.truth_hz"));
+}
+
+TEST_CASE("cell world on its clock: a lockstep client holds it, and a run repeats exactly", "[world]") {
+  testing_support::TempDir dir("cell_world_lockstep");
+  const world_test::WorldFiles files = world_test::make_world_files(dir);
+  const auto run = [&](std::vector<twin::VecX>& sheets) {
+    drivers::LcmBus bus("memq://");
+    sim_hw::WorldClockOptions lockstep;
+    lockstep.max_real_time_factor = 0;  // as fast as it goes: only the hold limits it
+    lockstep.lockstep = {"tester"};
+    sim_hw::CellWorld world(sim_hw::read_world_config(files.cell, files.world), bus, lockstep);
+    const auto hold = [&](double until_s) {
+      prepreg_lcm::sim_clock_hold_t m{};
+      m.utime = drivers::utime_now();
+      m.client = "tester";
+      m.until_utime = world.clock().epoch_us() + std::llround(until_s * 1e6);
+      REQUIRE(bus.publish(std::string(drivers::channels::kSimClockHold), m));
+    };
+    lcmt_iiwa_status left{};
+    bus.subscribe<lcmt_iiwa_status>("IIWA_STATUS_LEFT", [&](const lcmt_iiwa_status& s) { left = s; });
+    // Not heard yet: the clock stays at 0 (the wait gives up after its patience).
+    CHECK_FALSE(world.run_until(0.1, std::chrono::milliseconds(50)));
+    CHECK(world.sim_time_s() == 0.0);
+    hold(0.5);
+    REQUIRE(world.run_until(0.5));
+    CHECK_FALSE(world.run_until(0.6, std::chrono::milliseconds(50)));  // held at the client's 0.5 s
+    CHECK(world.sim_time_s() == Approx(0.5));
+    CHECK(world.snapshot().held_by == "tester");
+    // A command sent before the hold acts at the time the clock was held at, whatever the wall.
+    const auto measured = drivers::measured_positions(left);
+    REQUIRE(measured);
+    drivers::JointVector target = *measured;
+    target[0] += 0.05;
+    bus.publish("IIWA_COMMAND_LEFT", drivers::make_iiwa_command(drivers::utime_now(), target));
+    for (double t = 0.6; t <= 2.0 + 1e-9; t += 0.1) {
+      hold(t);
+      REQUIRE(world.run_until(t));
+      sheets.push_back(world.sheet().positions());
+    }
+  };
+  std::vector<twin::VecX> first, second;
+  run(first);
+  run(second);
+  REQUIRE(first.size() == second.size());
+  double moved = 0;
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    CHECK((first[i] - second[i]).cwiseAbs().maxCoeff() == 0.0);
+    moved = std::max(moved, (first[i] - first.front()).cwiseAbs().maxCoeff());
+  }
+  CHECK(moved > 0.005);  // the commanded arm carried the sheet: the runs compare a moving sheet
 }
