@@ -20,6 +20,8 @@ TEST_CASE("the fake cell config reads, with paths relative to its folder", "[cel
   CHECK(c.experiment_file == examples + "four_grasp_experiment.json");
   CHECK_FALSE(c.sheet_placement_given);
   CHECK(c.cell.twin_priority == cell::WorkerPriority::kNormal);  // the default
+  CHECK(c.cell.clock == drivers::ClockSource::kSim);  // the fake cell runs on the world's clock
+  CHECK(c.cell.twin_lockstep);                        // and so steps its twin in lockstep
   CHECK(c.learning.diagnose);  // the default
   CHECK(c.learning.diagnosis.noise_mm == 3.4);
   CHECK(c.learning.diagnosis.effects == cell::learning::kCellEffects);
@@ -39,6 +41,27 @@ TEST_CASE("cell.twin_priority reads idle and normal", "[cell]") {
   CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kNormal);
   f.config["cell"]["twin_priority"] = "idle";
   CHECK(cell::read_cell_config(cell_test::write_files(dir, f)).cell.twin_priority == cell::WorkerPriority::kIdle);
+}
+
+TEST_CASE("cell.clock is the wall by default, sim on request with the twin in lockstep", "[cell]") {
+  testing_support::TempDir dir("cell_config");
+  cell_test::RigFiles f = cell_test::default_files();
+  const cell::CellConfig wall = cell::read_cell_config(cell_test::write_files(dir, f));
+  CHECK(wall.cell.clock == drivers::ClockSource::kWall);
+  CHECK_FALSE(wall.cell.twin_lockstep);
+  f.config["cell"]["clock"] = "sim";
+  f.config["cell"]["sim_clock_timeout_s"] = 2.5;
+  const cell::CellConfig sim = cell::read_cell_config(cell_test::write_files(dir, f));
+  CHECK(sim.cell.clock == drivers::ClockSource::kSim);
+  CHECK(sim.cell.sim_clock_timeout_s == 2.5);
+  CHECK(sim.cell.twin_lockstep);
+  f.config["cell"]["twin_lockstep"] = false;
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)),
+                    Contains("cell.twin_lockstep") && Contains("\"sim\""));
+  f.config["cell"].erase("twin_lockstep");
+  f.config["cell"]["clock"] = "gps";
+  CHECK_THROWS_WITH(cell::read_cell_config(cell_test::write_files(dir, f)),
+                    Contains("cell.clock") && Contains("\"wall\"") && Contains("\"sim\""));
 }
 
 TEST_CASE("cell.twin_background_factorization is on by default and reads true and false", "[cell]") {
@@ -149,6 +172,15 @@ TEST_CASE("watchdog: cameras, twin and arms decide the state", "[cell]") {
   CHECK(v.state == cell::CellState::kSafeHold);
   CHECK_THAT(v.reason, Contains("no arm status within 250 ms from CENTER"));
   CHECK_FALSE(v.robots_ok);
+
+  // On the simulation clock, a clock that fell silent (the world gone) holds the cell safe.
+  in.stale_arms.clear();
+  in.clock_problem = "simulation clock: no SIM_CLOCK for 5.0 s (is the fake world running?)";
+  v = cell::judge(in);
+  CHECK(v.state == cell::CellState::kSafeHold);
+  CHECK_THAT(v.reason, Contains("no SIM_CLOCK"));
+  in.clock_problem.clear();
+  in.stale_arms = {"CENTER"};
 
   // Cameras that disagree degrade the cell (tracking goes on, the engineer is told which pair);
   // a cause for SAFE_HOLD still wins.
