@@ -28,6 +28,7 @@ inline std::vector<std::string> cell_channels(const drivers::CellHardwareConfig&
   std::vector<std::string> c = {std::string(ch::kSimTruth), std::string(ch::kSimFault)};
   for (const auto& arm : hardware.arms) c.push_back(ch::iiwa_status(arm.name));
   for (const auto& g : hardware.grippers) c.push_back(ch::gripper_status(g.name));
+  c.push_back(std::string(ch::kSimClock));  // the fake cell runs on the world's clock
   return c;
 }
 
@@ -37,6 +38,7 @@ inline std::vector<std::string> world_channels(const drivers::CellHardwareConfig
   std::vector<std::string> c = {std::string(ch::kSimFault)};
   for (const auto& arm : hardware.arms) c.push_back(ch::iiwa_command(arm.name));
   for (const auto& g : hardware.grippers) c.push_back(ch::gripper_command(g.name));
+  c.push_back(std::string(ch::kSimClockHold));  // its lockstep client's holds
   return c;
 }
 

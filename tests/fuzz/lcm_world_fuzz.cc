@@ -1,6 +1,7 @@
-// The fake world's handlers (sim_hw/cell_world.h): IIWA_COMMAND_<ARM>, GRIPPER_COMMAND_<G> and
-// SIM_FAULT, as fake_world receives them from the cell (or anyone on the bus), then a few of the
-// LCM thread's ticks that follow the commands and publish statuses. The world is built once (its
+// The fake world's handlers (sim_hw/cell_world.h): IIWA_COMMAND_<ARM>, GRIPPER_COMMAND_<G>,
+// SIM_FAULT and its lockstep client's SIM_CLOCK_HOLD, as cell_world receives them from the cell
+// (or anyone on the bus), then a few milliseconds of the world's loop that follow the commands
+// and publish statuses. The world is built once (its
 // sheet's first load takes seconds), so its state carries over from input to input, as a running
 // world's does.
 #include <chrono>
@@ -18,7 +19,8 @@ struct World {
   sim_hw::WorldConfig config = sim_hw::read_world_config(PREPREG_SOURCE_DIR "/cell/examples/fake_cell.json",
                                                          PREPREG_SOURCE_DIR "/sim_hw/examples/fake_world.json");
   std::vector<std::string> channels = fuzz::world_channels(config.hardware);
-  sim_hw::CellWorld world{config, bus};
+  // As fast as it goes (no real-time wait), held by the cell controller as in the fake cell.
+  sim_hw::CellWorld world{config, bus, sim_hw::WorldClockOptions{0.0, {"cell_controller"}, 30.0}};
 };
 
 World* world = nullptr;

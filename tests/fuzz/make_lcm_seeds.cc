@@ -13,6 +13,8 @@
 #include <prepreg_lcm/gripper_status_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_clock_hold_t.hpp>
+#include <prepreg_lcm/sim_clock_t.hpp>
 #include <prepreg_lcm/sim_fault_t.hpp>
 
 #include <algorithm>
@@ -286,6 +288,13 @@ int main(int argc, char** argv) {
       .add(std::string(ch::kSimFault), fault("twin", "melt", true));
   for (const auto& arm : config.hardware.arms) cell.add(ch::iiwa_status(arm.name), arm_status(0.2));
   for (const auto& g : config.hardware.grippers) cell.add(ch::gripper_status(g.name), gripper_status(g.name != "MANUAL"));
+  prepreg_lcm::sim_clock_t clock{};
+  clock.utime = kUtime;
+  clock.sim_us = 1'500'000;
+  clock.real_time_factor = 0.5;
+  clock.state = prepreg_lcm::sim_clock_t::STATE_HELD;
+  clock.held_by = "cell_controller";
+  cell.add(std::string(ch::kSimClock), clock);
   cell.write(corpus / "lcm_cell" / "seed_statuses");
 
   // The world: commands and faults.
@@ -298,6 +307,13 @@ int main(int argc, char** argv) {
   world.add(std::string(ch::kSimFault), fault("cam_left", "frozen", true))
       .add(std::string(ch::kSimFault), fault(config.hardware.arms.front().name.c_str(), "status_silent", true))
       .add(ch::gripper_command(config.hardware.grippers.front().name), gripper_command(G::ACTION_OPEN));
+  prepreg_lcm::sim_clock_hold_t hold{};
+  hold.utime = kUtime;
+  hold.client = "cell_controller";
+  hold.until_utime = kUtime + 100'000;
+  world.add(std::string(ch::kSimClockHold), hold);
+  hold.leaving = true;
+  world.add(std::string(ch::kSimClockHold), hold);
   world.write(corpus / "lcm_world" / "seed_commands");
 
   // A log: a few cycles of the cell's own channels, 3 vertices (lcm_log_fuzz.cc's mesh size).
