@@ -63,9 +63,14 @@ void SimClockClient::hold(std::int64_t until_us) {
 
 bool SimClockClient::advance_to(std::int64_t until_us, double silence_s, const std::atomic<bool>* stop) {
   hold(until_us);
-  std::int64_t held_since_us = wall_steady_us();
+  const std::int64_t waiting_since_us = wall_steady_us();
+  std::int64_t held_since_us = waiting_since_us;
   while (reading_.messages == 0 || now_us() < until_us) {
-    if ((stop && stop->load()) || silent_s() > silence_s) return false;
+    if (stop && stop->load()) return false;
+    // Silence counts from when this wait began: the time this process spent computing since
+    // the last SIM_CLOCK (a long start-up, a step) is no sign that the world is gone.
+    const std::int64_t heard_us = std::max(last_message_steady_us_.load(), waiting_since_us);
+    if (1e-6 * static_cast<double>(wall_steady_us() - heard_us) > silence_s) return false;
     bus_.handle_for(std::chrono::milliseconds(5));
     // Loopback UDP may still drop a datagram: say it again rather than wait for ever.
     if (wall_steady_us() - held_since_us > 500'000) {

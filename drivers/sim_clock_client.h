@@ -53,7 +53,8 @@ class SimClockClient {
 
   // Lets the clock run to until_us: publishes the hold (a lockstep client; a follower only
   // waits) and handles the bus until the clock has reached it. False when the clock fell silent
-  // for silence_s of wall time first, or *stop was set.
+  // for silence_s of wall time during this wait (time spent computing before it does not
+  // count), or *stop was set.
   bool advance_to(std::int64_t until_us, double silence_s, const std::atomic<bool>* stop = nullptr);
   // Publishes the hold without waiting.
   void hold(std::int64_t until_us);

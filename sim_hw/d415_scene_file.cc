@@ -166,7 +166,8 @@ SimulatedD415Options load_d415_scene_file(const std::string& path) {
     const std::string s = c->string();
     if (s == "simulated") options.clock = SimClock::kSimulated;
     else if (s == "wall") options.clock = SimClock::kWall;
-    else c->fail("must be \"simulated\" or \"wall\", got \"" + s + "\"");
+    else if (s == "process") options.clock = SimClock::kProcess;
+    else c->fail("must be \"simulated\", \"wall\" or \"process\", got \"" + s + "\"");
   }
   if (const auto n = root.optional("noise")) options.noise = read_noise(*n);
   if (const auto f = root.optional("faults")) options.faults = read_faults(*f);

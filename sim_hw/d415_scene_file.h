@@ -6,7 +6,7 @@
 //     "boxes":  [ {"name": "table", "min_m": [x, y, z], "max_m": [x, y, z], "albedo": [...]} ],
 //     "floor":  {"height_m": 0.0, "albedo": [170, 170, 165]},
 //     "light_direction": [0.3, 0.2, 1.0], "background": [90, 90, 95],
-//     "seed": 1, "clock": "simulated" | "wall",
+//     "seed": 1, "clock": "simulated" | "wall" | "process",  (simulated_d415.h: SimClock)
 //     "noise":  {"sigma_at_1m_mm": 1.5, "bias_at_1m_mm": 1.0, "grazing_limit_deg": 80,
 //                "edge_jump_m": 0.03, "min_range_m": 0.3, "max_range_m": 10,
 //                "dropout_fraction": 0.002, "stereo_shadow": true, "shadow_tolerance_m": 0.01,

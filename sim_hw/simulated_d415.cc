@@ -116,11 +116,12 @@ drivers::CameraHealth SimulatedD415Camera::health() const { return health_; }
 
 double SimulatedD415Camera::now_s() const {
   if (options_.clock == SimClock::kSimulated) return sim_time_s_;
+  if (options_.clock == SimClock::kProcess) return 1e-6 * static_cast<double>(drivers::host_clock_us() - host_epoch_us_);
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - activated_at_).count();
 }
 
 void SimulatedD415Camera::wait_until(double t_s) {
-  if (options_.clock == SimClock::kWall) {
+  if (options_.clock == SimClock::kWall) {  // kProcess never waits: read() only asks for due frames
     std::this_thread::sleep_until(activated_at_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                       std::chrono::duration<double>(t_s)));
   }
@@ -143,10 +144,16 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
   const double t_now = now_s();
   const double deadline = t_now + config_.read_timeout.count() / 1000.0;
   std::uint64_t k = next_index_;
-  if (options_.clock == SimClock::kWall) k = std::max(k, std::uint64_t(std::floor(t_now * fps)));
+  if (options_.clock != SimClock::kSimulated) k = std::max(k, std::uint64_t(std::floor(std::max(0.0, t_now) * fps)));
   double t = 0.0;
   for (;; ++k) {
     t = k / fps;
+    if (options_.clock == SimClock::kProcess && t > t_now + 1e-9) {
+      // Not due yet, and this clock cannot be waited for here: nothing new this time.
+      next_index_ = k;
+      ++health_.timeouts;
+      return ReadStatus::kTimeout;
+    }
     if (t > deadline) {
       wait_until(deadline);
       next_index_ = k;
@@ -190,7 +197,7 @@ drivers::ReadStatus SimulatedD415Camera::read(drivers::DepthFrame& frame) {
     device_us = last_device_time_us_;
   }
   frame.device_time_us = device_us;
-  frame.host_time_us = options_.clock == SimClock::kSimulated ? host_epoch_us_ + std::llround(t * 1e6) : drivers::host_clock_us();
+  frame.host_time_us = options_.clock != SimClock::kWall ? host_epoch_us_ + std::llround(t * 1e6) : drivers::host_clock_us();
   frame.depth_intrinsics = depth_k_;
   frame.color_intrinsics = color_k_;
   frame.depth_to_color = depth_to_color_;

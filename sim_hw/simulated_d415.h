@@ -14,7 +14,10 @@
 // runs are deterministic for a seed; host_time_us = (steady clock at activate) + simulation time.
 // kWall, read() sleeps until the next frame is due (at most read_timeout) and host_time_us is the
 // steady clock on delivery; a late reader gets the newest due frame (older ones count as
-// dropped, as with a real driver's overwritten buffers).
+// dropped, as with a real driver's overwritten buffers). kProcess: the process's clock
+// (drivers::host_clock_us(), the fake world's simulation time in a process on "clock": "sim"):
+// read() never waits, since the reader's own thread may be what holds that clock; it returns
+// the newest frame due by now (host_time_us its due time) or, when none is new yet, a timeout.
 
 #include <atomic>
 #include <chrono>
@@ -32,7 +35,7 @@
 
 namespace sim_hw {
 
-enum class SimClock { kSimulated, kWall };
+enum class SimClock { kSimulated, kWall, kProcess };
 
 struct SimulatedD415Options {
   SceneSource scene;  // empty: CameraConfig::uri must name a scene file

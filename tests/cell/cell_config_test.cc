@@ -46,6 +46,7 @@ TEST_CASE("cell.twin_priority reads idle and normal", "[cell]") {
 TEST_CASE("cell.clock is the wall by default, sim on request with the twin in lockstep", "[cell]") {
   testing_support::TempDir dir("cell_config");
   cell_test::RigFiles f = cell_test::default_files();
+  f.config["cell"].erase("clock");
   const cell::CellConfig wall = cell::read_cell_config(cell_test::write_files(dir, f));
   CHECK(wall.cell.clock == drivers::ClockSource::kWall);
   CHECK_FALSE(wall.cell.twin_lockstep);

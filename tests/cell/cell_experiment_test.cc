@@ -45,8 +45,7 @@ TEST_CASE("experiment: move and release states are applied, settled and measured
   for (int i = 0; i < 200 && !runner.done(); ++i) {
     truth.utime = drivers::utime_now();
     REQUIRE(t.bus.publish(std::string(drivers::channels::kSimTruth), truth));
-    t.controller->handle_bus(0);
-    const cell::CycleReport r = t.controller->cycle();
+    const cell::CycleReport r = t.run(1);
     runner.on_cycle(*t.controller, r);
   }
   INFO(runner.current() << "\n" << cell::format_results(runner.results()));

@@ -71,8 +71,12 @@ struct CellUnderTest {
   cell::CycleReport run(int max_cycles, const std::function<bool(const cell::CycleReport&)>& until = {}) {
     cell::CycleReport r;
     for (int i = 0; i < max_cycles; ++i) {
+      const std::int64_t start_us = drivers::host_clock_us();
       r = controller->cycle();
-      controller->handle_bus(0);
+      // To the next cycle's start: on the simulation clock the rig's responder runs the clock
+      // there (cell_rig.h); on the wall the cameras' reads pace the cycles.
+      if (controller->sim_clock()) controller->wait_until(controller->next_cycle_start_us(start_us, r));
+      else controller->handle_bus(0);
       if (until && until(r)) break;
     }
     return r;

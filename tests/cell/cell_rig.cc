@@ -1,5 +1,7 @@
 #include "tests/cell/cell_rig.h"
 
+#include <prepreg_lcm/sim_clock_t.hpp>
+
 #include <fstream>
 
 #include "cell/cell_twin.h"
@@ -33,7 +35,7 @@ RigFiles default_files() {
   // 0.1 s and 10 ms. The limits are far above that (a busy machine or a sanitizer build is
   // slower, and a healthy rig must not fail to start); the start-up tests of a missing camera
   // or arm set their own, shorter ones.
-  f.config["cell"] = {{"lcm_url", "memq://"}, {"cycle_hz", 15}, {"min_cameras", 2},
+  f.config["cell"] = {{"lcm_url", "memq://"}, {"clock", "sim"}, {"cycle_hz", 15}, {"min_cameras", 2},
                       {"robot_status_timeout_ms", 250}, {"camera_stale_ms", 500},
                       {"startup_timeout_s", 60}, {"camera_startup_timeout_s", 15},
                       {"arm_status_timeout_s", 5}};
@@ -61,7 +63,8 @@ namespace {
 SimCameras* g_current = nullptr;  // the registry's factory is global; one rig at a time
 }
 
-SimCameras::SimCameras(const cell::CellConfig& config) {
+SimCameras::SimCameras(const cell::CellConfig& config)
+    : clock_(config.cell.clock == drivers::ClockSource::kSim ? sim_hw::SimClock::kProcess : sim_hw::SimClock::kWall) {
   // The truth: the plan's ply at its own static equilibrium (the cell's twin finds the same one
   // from the same start, so the prediction error is the tracker's and the mesh's, not the model's).
   const twin::GraspPlan plan = twin::read_grasp_plan(config.plan_file);
@@ -79,7 +82,7 @@ SimCameras::SimCameras(const cell::CellConfig& config) {
     sim_hw::SimulatedD415Options o;
     auto s = g_current->scene_;
     o.scene = [s](double) { return s; };
-    o.clock = sim_hw::SimClock::kWall;
+    o.clock = g_current->clock_;
     o.seed = 100 + g_current->cameras_.size();
     auto cam = std::make_unique<sim_hw::SimulatedD415Camera>(o);
     const int index = static_cast<int>(g_current->cameras_.size());
@@ -146,17 +149,48 @@ Responder::Responder(drivers::LcmBus& bus, const cell::CellConfig& config) : bus
           if (q) q_[name] = *q;
         }));
   }
-  thread_ = std::thread([this] { run(); });
+  if (config.cell.clock == drivers::ClockSource::kSim) {
+    subscriptions_.push_back(bus_.subscribe<prepreg_lcm::sim_clock_hold_t>(
+        std::string(drivers::channels::kSimClockHold), [this](const prepreg_lcm::sim_clock_hold_t& m) { on_hold(m); }));
+  } else {
+    thread_ = std::thread([this] { run(); });
+  }
 }
 
 Responder::~Responder() {
   stop_ = true;
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
   for (auto id : subscriptions_) bus_.unsubscribe(id);
+}
+
+void Responder::on_hold(const prepreg_lcm::sim_clock_hold_t& hold) {
+  if (hold.leaving) return;
+  const std::int64_t until = std::max<std::int64_t>(0, hold.until_utime - kEpochUs);
+  // Time 0 first, then 10 ms steps up to the hold: the clock, then that time's statuses.
+  const auto tick = [&](std::int64_t t) {
+    sim_us_ = t;
+    prepreg_lcm::sim_clock_t c{};
+    c.utime = kEpochUs + t;
+    c.sim_us = t;
+    c.real_time_factor = 1.0;
+    c.state = prepreg_lcm::sim_clock_t::STATE_RUNNING;
+    bus_.publish(std::string(drivers::channels::kSimClock), c);
+    publish_statuses();
+  };
+  if (sim_us_ < 0) tick(0);
+  while (sim_us_ + 10'000 <= until) tick(sim_us_ + 10'000);
+  if (sim_us_ < until) tick(until);
 }
 
 void Responder::run() {
   while (!stop_) {
+    publish_statuses();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+void Responder::publish_statuses() {
+  {
     // Copied under the lock, published outside it: a callback holding LCM's dispatch may wait
     // for the lock while a publish waits for LCM.
     std::map<std::string, drivers::JointVector> q;
@@ -180,7 +214,6 @@ void Responder::run() {
       s.holding = h;
       bus_.publish(drivers::channels::gripper_status(g), s);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }
 

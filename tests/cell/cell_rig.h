@@ -1,9 +1,16 @@
 #pragma once
 // A whole cell in one process for the cell controller's tests, on an in-process LCM bus
 // (memq://): the paper's four-grasp ply hanging as the plan says (the twin's own equilibrium,
-// the "truth"), three simulated D415s (back-end "test_sim", wall clock) rendering it from the
-// fake cell's camera poses, and a test-side arm/gripper responder that publishes IIWA_STATUS
-// for the commanded joints and GRIPPER_STATUS, with switches to silence an arm.
+// the "truth"), three simulated D415s (back-end "test_sim") rendering it from the fake cell's
+// camera poses, and a test-side arm/gripper responder that publishes IIWA_STATUS for the
+// commanded joints and GRIPPER_STATUS, with switches to silence an arm.
+//
+// On "clock": "sim" (the rig's default, as the fake cell's) the responder is also the world's
+// clock: the controller's holds (SIM_CLOCK_HOLD) run it on in 10 ms steps, each a SIM_CLOCK and
+// the statuses of that time, all on the controller's own thread, and the cameras give the frames
+// due by the process's clock; so a test's cycles are the same however busy the machine.
+// On "clock": "wall" the cameras run on the wall and the responder publishes every 10 ms from a
+// thread.
 #include <atomic>
 #include <map>
 #include <memory>
@@ -13,6 +20,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include <prepreg_lcm/sim_clock_hold_t.hpp>
 
 #include "cell/cell_config.h"
 #include "drivers/iiwa_kinematics.h"
@@ -53,10 +62,11 @@ class SimCameras {
   std::shared_ptr<const sim_hw::RenderScene> scene_;
   std::vector<sim_hw::SimulatedD415Camera*> cameras_;  // owned by the cell's camera set
   std::vector<int> dead_from_start_;
+  sim_hw::SimClock clock_;  // kProcess on the simulation clock, kWall on the wall
 };
 
 // Arms that go where they are commanded (instantly, within limits) and grippers that open when
-// told; statuses every 10 ms from a thread.
+// told; statuses every 10 ms (of the simulation clock it serves, or from a thread on the wall).
 class Responder {
  public:
   Responder(drivers::LcmBus& bus, const cell::CellConfig& config);
@@ -69,6 +79,8 @@ class Responder {
 
  private:
   void run();
+  void publish_statuses();
+  void on_hold(const prepreg_lcm::sim_clock_hold_t& hold);
   drivers::LcmBus& bus_;
   cell::CellConfig config_;
   mutable std::mutex mutex_;
@@ -80,6 +92,8 @@ class Responder {
   std::vector<drivers::LcmBus::SubscriptionId> subscriptions_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
+  std::int64_t sim_us_ = -1;  // the clock it serves (us since its epoch); -1: not started
+  static constexpr std::int64_t kEpochUs = 1'700'000'000'000'000;
 };
 
 }  // namespace cell_test
