@@ -4,7 +4,8 @@
 // V4L2 devices. The test only watches the bus and injects faults on SIM_FAULT, as an engineer
 // with lcm-spy would. It runs the paper's four-grasp experiment, then checks the watchdog:
 // one camera killed -> DEGRADED; all cameras dead, a twin failure or a silent arm -> SAFE_HOLD
-// with no robot command on the bus; each followed by recovery.
+// with no robot command on the bus; each followed by recovery; and the world gone, its clock
+// with it -> SAFE_HOLD.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -104,12 +105,18 @@ class FakeCell {
       require_alive();
     }
   }
+  // Handles messages until done() or the timeout; fails if a process died (only the cell is
+  // required once the world was stopped on purpose: world_gone).
   template <typename Predicate>
-  bool pump_until(Predicate done, double timeout_s) {
+  bool pump_until(Predicate done, double timeout_s, bool world_gone = false) {
     const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_s));
     while (Clock::now() < end) {
       bus_.handle_for(std::chrono::milliseconds(20));
-      require_alive();
+      if (world_gone) {
+        if (!cell_->running()) FAIL("the cell ended early\n" << logs());
+      } else {
+        require_alive();
+      }
       if (done()) return true;
     }
     return false;
@@ -271,11 +278,21 @@ TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, h
       cell, "arm status missing", [&] { cell.fault("LEFT", "status_silent", true); },
       [&] { cell.fault("LEFT", "status_silent", false); }, "LEFT");
 
-  // Shut down on request: STOPPED, clean exits. The cell exits 0, or 3 if it was in SAFE_HOLD when
-  // the signal came: on a loaded machine an arm status can arrive late and hold the cell for a
-  // moment of its own (correct behaviour), so the state it reported last before STOPPED decides.
-  // 60 s: the cell gives a background fit still running 2 s per worker to stop before it lets it
-  // go (cell_controller_main.cc), about 4 s of a normal stop, then writes its observed trial.
+  // The world goes away (its clock with it): the cell, on the world's clock, holds safe once no
+  // SIM_CLOCK came for sim_clock_timeout_s (5 s), naming the clock.
+  cell.world().signal(SIGTERM);
+  CHECK(cell.world().wait_for_exit(std::chrono::seconds(60)) == std::optional<int>(0));
+  CHECK_LOGGED(cell, cell.pump_until(
+                         [&] {
+                           return cell.log().state == cell_state_t::STATE_SAFE_HOLD &&
+                                  cell.log().reason.find("SIM_CLOCK") != std::string::npos;
+                         },
+                         60.0, /*world_gone=*/true));
+
+  // Shut down on request: STOPPED, and the cell exits 3, since it was in SAFE_HOLD when the
+  // signal came. 60 s: the cell gives a background fit still running 2 s per worker to stop
+  // before it lets it go (cell_controller_main.cc), about 4 s of a normal stop, then writes its
+  // observed trial.
   cell.cell().signal(SIGTERM);
   const std::optional<int> cell_exit = cell.cell().wait_for_exit(std::chrono::seconds(60));
   cell.drain(0.5);
@@ -285,8 +302,6 @@ TEST_CASE("the cell on fake hardware runs the four-grasp experiment, degrades, h
   INFO("cell exit " << (cell_exit ? std::to_string(*cell_exit) : "none within 60 s") << ", state before STOPPED "
                     << before_stop << "\n" << cell.logs());
   CHECK(stopped);
-  if (before_stop == cell_state_t::STATE_SAFE_HOLD) WARN("the cell was in SAFE_HOLD when stopped");
-  CHECK(cell_exit == std::optional<int>(before_stop == cell_state_t::STATE_SAFE_HOLD ? 3 : 0));
-  cell.world().signal(SIGTERM);
-  CHECK(cell.world().wait_for_exit(std::chrono::seconds(60)) == std::optional<int>(0));
+  CHECK(before_stop == cell_state_t::STATE_SAFE_HOLD);
+  CHECK(cell_exit == std::optional<int>(3));
 }
