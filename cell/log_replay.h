@@ -1,9 +1,10 @@
 #pragma once
 // Replay of an lcm-logger log (LCM's event log format, read with lcm::LogFile): every event is
 // published on a bus the monitor listens on (normally memq://) and dispatched at once, with the
-// monitor clock set to the event's log timestamp, so ages and rates are those of the logged run.
-// Optionally the events are also played onto another bus (e.g. the loopback udpm bus, for
-// lcm-spy or a live monitor), paced by their timestamps.
+// monitor clock set to the run's clock at that event, so ages and rates are those of the logged
+// run: the event's log timestamp, or, in a run on the fake world's simulation clock, the last
+// SIM_CLOCK logged before it. Optionally the events are also played onto another bus (e.g. the
+// loopback udpm bus, for lcm-spy or a live monitor), paced by that clock.
 
 #include <cstdint>
 #include <string>

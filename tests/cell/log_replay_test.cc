@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
+#include <prepreg_lcm/sim_clock_t.hpp>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -21,14 +22,31 @@ namespace {
 constexpr std::int64_t kLogStart_us = 1'800'000'000'000'000;
 
 // Writes `cycles` cycles at 20 Hz, the messages of a cycle 1 ms apart; cycle `wrong` (if >= 0)
-// logs a max error 3 mm larger than its sheets give.
-void write_log(const std::string& path, int cycles, int wrong = -1) {
+// logs a max error 3 mm larger than its sheets give. `simulated`: a run on the fake world's
+// clock at half real time: each cycle starts with a SIM_CLOCK at its simulated time, and the
+// logger's (wall) timestamps are twice as far apart.
+void write_log(const std::string& path, int cycles, int wrong = -1, bool simulated = false) {
   lcm::LogFile log(path, "w");
   REQUIRE(log.good());
   std::mt19937 rng(21);
   std::int64_t event = 0;
   for (int id = 0; id < cycles; ++id) {
     const std::int64_t t = kLogStart_us + id * 50'000;
+    if (simulated) {
+      prepreg_lcm::sim_clock_t clock{};
+      clock.utime = t;
+      clock.sim_us = t - kLogStart_us;
+      clock.real_time_factor = 0.5;
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(clock.getEncodedSize()));
+      REQUIRE(clock.encode(bytes.data(), 0, static_cast<int>(bytes.size())) == static_cast<int>(bytes.size()));
+      lcm::LogEvent e;
+      e.eventnum = event++;
+      e.timestamp = kLogStart_us + 2 * (t - kLogStart_us);
+      e.channel = "SIM_CLOCK";
+      e.datalen = static_cast<int32_t>(bytes.size());
+      e.data = bytes.data();
+      REQUIRE(log.writeEvent(&e) == 0);
+    }
     auto c = testing_support::make_cycle(id, t, rng, 10, id == 4 ? "cam_left" : "");
     if (id == wrong) {  // consistent in itself (score is checked on receipt), wrong for the sheets
       c.error.max_m += 0.003f;
@@ -38,7 +56,7 @@ void write_log(const std::string& path, int cycles, int wrong = -1) {
     for (auto& m : testing_support::encode_cycle(c)) {
       lcm::LogEvent e;
       e.eventnum = event++;
-      e.timestamp = t + 1000 * offset++;
+      e.timestamp = simulated ? kLogStart_us + 2 * (t - kLogStart_us) + 2000 * offset++ : t + 1000 * offset++;
       e.channel = m.channel;
       e.datalen = static_cast<int32_t>(m.bytes.size());
       e.data = m.bytes.data();
@@ -94,6 +112,20 @@ TEST_CASE("replay: a logged run reproduces the logged errors at the logged times
   CHECK(r.summary.state_changes()[1].cycle_id == 4);
   CHECK(r.summary.state_changes()[1].seen_utime ==
         kLogStart_us + 4 * 50'000 + 8'000);  // its CELL_STATE
+}
+
+TEST_CASE("replay: a run on the simulation clock replays on its SIM_CLOCK, not the logger's wall", "[monitor]") {
+  testing_support::TempDir dir("replay_log");
+  const std::string path = (dir / "sim.lcmlog").string();
+  write_log(path, 12, -1, /*simulated=*/true);
+  const Replayed r = replay(path);
+  REQUIRE(r.records.size() == 12);
+  CHECK(r.summary.rate_hz() == Approx(20.0));  // 20 Hz of simulated time (10 Hz on the logger's wall)
+  REQUIRE(r.records.back().real_time_factor);
+  CHECK(*r.records.back().real_time_factor == 0.5);
+  CHECK(r.summary.cycles_with_clock() == 12);
+  // Each cycle's messages fall at its SIM_CLOCK's time: its arm status is as old as it is then.
+  CHECK(r.records.back().arms.at(0).age_ms == Approx(0.0));
 }
 
 TEST_CASE("replay: a log whose error disagrees with its sheets is caught", "[monitor]") {
