@@ -8,6 +8,7 @@
 #include <prepreg_lcm/cell_state_t.hpp>
 #include <prepreg_lcm/prediction_error_t.hpp>
 #include <prepreg_lcm/sheet_state_t.hpp>
+#include <prepreg_lcm/sim_clock_t.hpp>
 #include <string>
 
 #include "tests/cell/cycle_messages.h"
@@ -33,6 +34,12 @@ TEST_CASE("lcm-spy jar: the Java classes decode the C++ messages", "[monitor]") 
   auto c = testing_support::make_cycle(72, 1'800'000'000'123'456, rng, 3, "cam_left");
   c.error.num_vertex_errors = 2;
   c.error.vertex_error_m = {0.25f, 0.5f};
+  prepreg_lcm::sim_clock_t clock{};  // the fake world's clock, as lcm-spy shows it
+  clock.utime = 1'800'000'000'500'000;
+  clock.sim_us = 12'500'000;
+  clock.real_time_factor = 0.5;
+  clock.state = prepreg_lcm::sim_clock_t::STATE_HELD;
+  clock.held_by = "cell_controller";
   const std::string command = "java -cp " PREPREG_LCM_JAR ":" PREPREG_LCM_TYPES_JAR
                               " " PREPREG_SOURCE_DIR
                               "/tests/cell/LcmTypesDecode.java"
@@ -40,7 +47,8 @@ TEST_CASE("lcm-spy jar: the Java classes decode the C++ messages", "[monitor]") 
                               write(dir, "error.bin", c.error) + " prepreg_lcm.cell_state_t " +
                               write(dir, "state.bin", c.state) + " prepreg_lcm.sheet_state_t " +
                               write(dir, "sheet.bin", c.observed) + " lcmtypes.lcmt_iiwa_status " +
-                              write(dir, "arm.bin", c.arm) + " 2>&1";
+                              write(dir, "arm.bin", c.arm) + " prepreg_lcm.sim_clock_t " +
+                              write(dir, "clock.bin", clock) + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   REQUIRE(pipe);
   std::string out;
@@ -58,4 +66,6 @@ TEST_CASE("lcm-spy jar: the Java classes decode the C++ messages", "[monitor]") 
   CHECK_THAT(out, Catch::Contains("num_vertices=9\n"));
   CHECK_THAT(out, Catch::Contains("type lcmtypes.lcmt_iiwa_status\n"));
   CHECK_THAT(out, Catch::Contains("joint_position_measured=[0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1]\n"));
+  CHECK_THAT(out, Catch::Contains("type prepreg_lcm.sim_clock_t\nutime=1800000000500000\nsim_us=12500000\n"
+                                  "real_time_factor=0.5\nstate=1\nheld_by=cell_controller\n"));
 }
