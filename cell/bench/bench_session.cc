@@ -69,8 +69,10 @@ cell::CellConfig bench_cell_config(const std::string& cell_config_path, const st
   j["cell"]["clock"] = "wall";
   j["cell"]["cycle_hz"] = hz;
   absolute(j.at("twin").at("material_file"));
-  j["twin"]["sheet"]["target_triangles"] = triangles;
-  j["twin"]["sheet"].erase("edge_length_m");
+  if (triangles > 0) {  // else the config's own twin
+    j["twin"]["sheet"]["target_triangles"] = triangles;
+    j["twin"]["sheet"].erase("edge_length_m");
+  }
   absolute(j.at("job").at("plan_file"));
   j["job"].erase("experiment_file");
   if (j.contains("tracker") && j["tracker"].is_string()) absolute(j["tracker"]);

@@ -28,7 +28,8 @@ void record_session(const sim_hw::WorldConfig& world, const sim_hw::TrueSheet& s
                     const std::filesystem::path& dir, double seconds);
 
 // Writes `work_dir`/bench_cell.json: the cell config at `cell_config_path` with cell.lcm_url
-// memq://, cell.cycle_hz = hz, twin.sheet.target_triangles = triangles, no experiment, and each
+// memq://, cell.cycle_hz = hz, twin.sheet.target_triangles = triangles (0: the config's own),
+// the wall clock, no experiment, and each
 // camera replaced by "<session>#<name>?pace=recorded&loop=1&rebase=1&live=1" at kCameraFps (its
 // calibration kept: the cell uses its own camera poses, not the world's true ones). Returns it
 // read back (read_cell_config: errors name the file and field).

@@ -5,7 +5,7 @@
 // same in-process LCM bus. Phases: "still" (the ply held still, the usual case) and "moving"
 // (one gripper's goal moved back and forth, so the twin steps a moving clamp under load).
 //
-//   cell_benchmark [--seconds S] [--triangles 6000] [--hz 30] [--memory-every-s 10]
+//   cell_benchmark [--seconds S] [--triangles N] [--hz 30] [--memory-every-s 10]
 //                  [--session DIR] [--phase both|still|moving] [--threads 1] [--lockstep]
 //                  [--twin-priority idle|normal]
 //
@@ -46,12 +46,13 @@ int moving_grasp(const cell::CellController& cell) {
 int main(int argc, char** argv) {
   CLI::App app{"Cell benchmark: cycle rate, latency, stage times and memory of the cell controller"};
   double seconds = 60, hz = 30, memory_every_s = 10, record_s = 2, warmup_s = 2, sweep_m = 0.05;
-  int triangles = 6000, threads = 1;
+  int triangles = 0, threads = 1;  // 0: the cell config's twin
   std::string session, phase = "both";
   std::string cell_path = std::string(PREPREG_SOURCE_DIR) + "/cell/examples/fake_cell.json";
   std::string world_path = std::string(PREPREG_SOURCE_DIR) + "/sim_hw/examples/fake_world.json";
   app.add_option("--seconds", seconds, "measured seconds per phase")->check(CLI::PositiveNumber);
-  app.add_option("--triangles", triangles, "twin target_triangles")->check(CLI::PositiveNumber);
+  app.add_option("--triangles", triangles, "twin target_triangles (default: the fake cell config's)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--hz", hz, "cell.cycle_hz")->check(CLI::PositiveNumber);
   app.add_option("--memory-every-s", memory_every_s, "RSS sample period (s)")->check(CLI::PositiveNumber);
   app.add_option("--session", session, "camera session DIR: reused if it holds one, else recorded into it and kept");
