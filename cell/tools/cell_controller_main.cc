@@ -79,6 +79,13 @@ int main(int argc, char** argv) {
     if (!lcm_url.empty()) config.cell.lcm_url = lcm_url;
     if (!material_path.empty()) config.material_file = material_path;
     if (!no_experiment && !config.experiment_file.empty()) experiment = cell::read_experiment(config.experiment_file);
+    // The fake world's emulated cameras stamp their frames on its simulation clock: on the wall
+    // every frame would look stale, so say why instead.
+    if (const char* clock = std::getenv("PREPREG_V4L2_EMULATION_CLOCK");
+        clock && std::string(clock) == "sim" && config.cell.clock != drivers::ClockSource::kSim) {
+      throw std::runtime_error(config_path + ": the fake world's cameras run on its simulation clock "
+                               "(PREPREG_V4L2_EMULATION_CLOCK=sim): set cell.clock to \"sim\"");
+    }
     if (!out_dir.empty()) twin::create_directories_durably(out_dir);
   } catch (const std::exception& e) {
     fmt::print(stderr, "cell_controller: config error: {}\n", e.what());

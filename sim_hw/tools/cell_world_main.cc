@@ -9,6 +9,7 @@
 // --lockstep client (the cell controller on "clock": "sim"), which it waits for from time 0. --emulation-env writes the two lines a
 // launcher passes to the cell process (`env $(cat FILE) build/cell/cell_controller ...`):
 //   PREPREG_V4L2_EMULATION=/dev/video0=<node>,...   LD_PRELOAD=<path of libprepreg_v4l2_shim.so>
+//   PREPREG_V4L2_EMULATION_CLOCK=sim   (the devices' buffers are stamped on the world's clock)
 // One status line per second unless --quiet. Exit status: 0 stopped on request or at
 // --max-seconds; 1 bad config or a start-up failure (the message says which file and field, or
 // which gripper's hold position is unreachable).
@@ -39,8 +40,11 @@ std::string shim_path() {
 }
 
 // Written durably (common/durable_file.h): a launcher waiting for the file never sees half of it.
+// PREPREG_V4L2_EMULATION_CLOCK tells the cell that these devices stamp their buffers on the
+// world's simulation clock, so that a cell on the wall can refuse them with a reason.
 void write_emulation_env(const std::string& path, const std::string& spec) {
-  prepreg::write_file_atomically(path, "PREPREG_V4L2_EMULATION=" + spec + "\n" + "LD_PRELOAD=" + shim_path() + "\n");
+  prepreg::write_file_atomically(path, "PREPREG_V4L2_EMULATION=" + spec + "\n" + "LD_PRELOAD=" + shim_path() + "\n" +
+                                           "PREPREG_V4L2_EMULATION_CLOCK=sim\n");
 }
 
 std::string status_line(const sim_hw::WorldSnapshot& s, int arms) {
