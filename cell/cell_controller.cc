@@ -19,14 +19,19 @@ tracking::TrackerConfig without_calibration_check(tracking::TrackerConfig c) {
   return c;
 }
 
-// The cameras' frame period (s): the fastest configured rate; 0 when no camera says, and on the
-// simulation clock, where the cycles keep their own period exactly (a frame's arrival there is
-// when the cycle reads it, so locking to it would only add the lock's slack every cycle).
-double frame_period_s(const CellSettings& cell, const std::vector<drivers::CameraConfig>& cameras) {
-  if (cell.clock == drivers::ClockSource::kSim) return 0.0;
+// The cameras' fastest configured frame rate (1/s); 0 when no camera says.
+int fastest_fps(const std::vector<drivers::CameraConfig>& cameras) {
   int fps = 0;
   for (const auto& c : cameras) fps = std::max(fps, c.depth_mode.fps);
-  return fps > 0 ? 1.0 / fps : 0.0;
+  return fps;
+}
+
+// The frame period the pacer locks cycles to (s): 0 when no camera says, and on the simulation
+// clock, where the cycles keep their own period exactly (a frame's arrival there is when the
+// cycle reads it, so locking to it would only add the lock's slack every cycle).
+double frame_period_s(const CellSettings& cell, const std::vector<drivers::CameraConfig>& cameras) {
+  const int fps = fastest_fps(cameras);
+  return cell.clock == drivers::ClockSource::kSim || fps <= 0 ? 0.0 : 1.0 / fps;
 }
 }  // namespace
 
@@ -123,8 +128,7 @@ void CellController::wait_for_next_frames() {
     handle_bus(0);
     return;
   }
-  int fps = 0;
-  for (const auto& c : config_.cameras) fps = std::max(fps, c.depth_mode.fps);
+  const int fps = fastest_fps(config_.cameras);
   handle_bus(fps > 0 ? std::max(1, static_cast<int>(std::ceil(1000.0 / fps))) : 1);
 }
 

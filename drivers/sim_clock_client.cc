@@ -51,14 +51,18 @@ double SimClockClient::silent_s() const {
   return 1e-6 * static_cast<double>(wall_steady_us() - last_message_steady_us_.load());
 }
 
-void SimClockClient::hold(std::int64_t until_us) {
-  if (client_.empty() || left_) return;
+void SimClockClient::publish_hold(std::int64_t until_us, bool leaving) {
   prepreg_lcm::sim_clock_hold_t msg;
   msg.utime = std::max<std::int64_t>(0, now_us());
   msg.client = client_;
   msg.until_utime = std::max<std::int64_t>(0, until_us);
-  msg.leaving = false;
+  msg.leaving = leaving;
   bus_.publish(std::string(channels::kSimClockHold), msg);
+}
+
+void SimClockClient::hold(std::int64_t until_us) {
+  if (client_.empty() || left_) return;
+  publish_hold(until_us, false);
 }
 
 bool SimClockClient::advance_to(std::int64_t until_us, double silence_s, const std::atomic<bool>* stop) {
@@ -83,12 +87,7 @@ bool SimClockClient::advance_to(std::int64_t until_us, double silence_s, const s
 
 void SimClockClient::leave() {
   if (client_.empty() || left_) return;
-  prepreg_lcm::sim_clock_hold_t msg;
-  msg.utime = std::max<std::int64_t>(0, now_us());
-  msg.client = client_;
-  msg.until_utime = msg.utime;
-  msg.leaving = true;
-  bus_.publish(std::string(channels::kSimClockHold), msg);
+  publish_hold(now_us(), true);
   left_ = true;
 }
 

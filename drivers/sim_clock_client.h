@@ -62,6 +62,8 @@ class SimClockClient {
   void leave();
 
  private:
+  void publish_hold(std::int64_t until_us, bool leaving);
+
   LcmBus& bus_;
   std::string client_;
   prepreg::SimulatedTime time_;

@@ -1,7 +1,6 @@
 #include "sim_hw/world_clock.h"
 
 #include <algorithm>
-#include <thread>
 
 #include <fmt/core.h>
 #include <prepreg_lcm/sim_clock_hold_t.hpp>

@@ -190,30 +190,28 @@ void Responder::run() {
 }
 
 void Responder::publish_statuses() {
+  // Copied under the lock, published outside it: a callback holding LCM's dispatch may wait
+  // for the lock while a publish waits for LCM.
+  std::map<std::string, drivers::JointVector> q;
+  std::map<std::string, bool> holding;
   {
-    // Copied under the lock, published outside it: a callback holding LCM's dispatch may wait
-    // for the lock while a publish waits for LCM.
-    std::map<std::string, drivers::JointVector> q;
-    std::map<std::string, bool> holding;
-    {
-      std::lock_guard lock(mutex_);
-      for (const auto& [arm, qa] : q_) {
-        if (!silent_[arm]) q[arm] = qa;
-      }
-      holding = holding_;
+    std::lock_guard lock(mutex_);
+    for (const auto& [arm, qa] : q_) {
+      if (!silent_[arm]) q[arm] = qa;
     }
-    for (const auto& [arm, qa] : q) {
-      bus_.publish(drivers::channels::iiwa_status(arm),
-                   drivers::make_iiwa_status(drivers::utime_now(), qa, drivers::JointVector::Zero(), qa));
-    }
-    for (const auto& [g, h] : holding) {
-      prepreg_lcm::gripper_status_t s{};
-      s.utime = drivers::utime_now();
-      s.state = h ? prepreg_lcm::gripper_status_t::STATE_CLOSED : prepreg_lcm::gripper_status_t::STATE_OPEN;
-      s.width_m = h ? 0.0f : 0.08f;
-      s.holding = h;
-      bus_.publish(drivers::channels::gripper_status(g), s);
-    }
+    holding = holding_;
+  }
+  for (const auto& [arm, qa] : q) {
+    bus_.publish(drivers::channels::iiwa_status(arm),
+                 drivers::make_iiwa_status(drivers::utime_now(), qa, drivers::JointVector::Zero(), qa));
+  }
+  for (const auto& [g, h] : holding) {
+    prepreg_lcm::gripper_status_t s{};
+    s.utime = drivers::utime_now();
+    s.state = h ? prepreg_lcm::gripper_status_t::STATE_CLOSED : prepreg_lcm::gripper_status_t::STATE_OPEN;
+    s.width_m = h ? 0.0f : 0.08f;
+    s.holding = h;
+    bus_.publish(drivers::channels::gripper_status(g), s);
   }
 }
 
